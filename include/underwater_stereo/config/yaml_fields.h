@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Reading typed fields out of YAML maps, collecting every problem instead of stopping at the first.
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace underwater_stereo {
+
+/// Collects the problems found while reading one YAML document; each names the field's full path.
+class YamlFields {
+ public:
+  explicit YamlFields(std::vector<std::string>& errors) : errors_(errors) {}
+
+  /// Reads `map[key]` into `value` when present; keeps `value` (the default) when absent.
+  /// A present value of the wrong type is recorded as a problem and `value` is left unchanged.
+  template <typename T>
+  void optional(const YAML::Node& map, const std::string& key, const std::string& path, T& value) {
+    const YAML::Node node = map[key];
+    if (!node) return;
+    try {
+      value = node.as<T>();
+    } catch (const YAML::Exception&) {
+      errors_.push_back(path + key + ": expected " + typeName<T>() + ", got '" + YAML::Dump(node) + "'");
+    }
+  }
+
+  /// Like optional(), but a missing key is a problem.
+  template <typename T>
+  void required(const YAML::Node& map, const std::string& key, const std::string& path, T& value) {
+    if (!map[key]) {
+      errors_.push_back(path + key + ": missing");
+      return;
+    }
+    optional(map, key, path, value);
+  }
+
+  /// Reads a fixed-length list of numbers (e.g. a 3-vector [x, y, z]).
+  void optionalVector(const YAML::Node& map, const std::string& key, const std::string& path,
+                      std::vector<double>& value, std::size_t expected_size);
+  void optionalVector3(const YAML::Node& map, const std::string& key, const std::string& path,
+                       Eigen::Vector3d& value);
+
+  /// Records every key of `map` that is not in `allowed` (catches misspelt parameters).
+  void onlyKeys(const YAML::Node& map, const std::string& path, std::initializer_list<const char*> allowed);
+
+  /// Records a problem that is not about one field's type.
+  void fail(const std::string& message) { errors_.push_back(message); }
+
+ private:
+  template <typename T>
+  static const char* typeName();
+  std::vector<std::string>& errors_;
+};
+
+template <>
+inline const char* YamlFields::typeName<double>() { return "a number"; }
+template <>
+inline const char* YamlFields::typeName<int>() { return "an integer"; }
+template <>
+inline const char* YamlFields::typeName<unsigned>() { return "a non-negative integer"; }
+template <>
+inline const char* YamlFields::typeName<bool>() { return "true or false"; }
+template <>
+inline const char* YamlFields::typeName<std::string>() { return "a string"; }
+
+/// Joins problems into one message, one per line, for an exception or a log.
+std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Ray-casting renderer for simulated underwater stereo pairs with exact ground truth.
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+#include "underwater_stereo/sim/ground_truth.h"
+#include "underwater_stereo/sim/scene.h"
+#include "underwater_stereo/sim/stereo_rig.h"
+
+namespace underwater_stereo {
+namespace sim {
+
+/// One rendered stereo pair.
+struct RenderedPair {
+  cv::Mat left;    ///< CV_8UC1 (bayer_rggb8) or CV_8UC3 (bgr8), raw: distorted, unrectified
+  cv::Mat right;
+  std::string encoding;
+  double time_s = 0.0;          ///< scene time the pair shows
+  std::vector<GroundTruthObject> ground_truth;  ///< one per scene object, in scene order
+  cv::Mat left_labels;          ///< CV_16UC1: 1 + index of the object each left pixel sees, 0 for water/seabed
+};
+
+/// Renders a scene. Construction precomputes each pixel's ray (undoing lens distortion); render()
+/// is const and may be called from several threads at once.
+class Renderer {
+ public:
+  /// @throw std::invalid_argument when the scene does not validate.
+  explicit Renderer(Scene scene);
+
+  /// Renders the pair at scene time `time_s`. `frame_index` seeds the sensor noise, so the same
+  /// (time, index) gives the same images.
+  RenderedPair render(double time_s, std::uint64_t frame_index) const;
+
+  const Scene& scene() const { return scene_; }
+  const StereoRig& rig() const { return rig_; }
+  const StereoCalibration& calibration() const { return rig_.calibration(); }
+
+ private:
+  Scene scene_;
+  StereoRig rig_;
+  cv::Mat left_rays_;   ///< CV_32FC3 unit ray per pixel in the left optical frame
+  cv::Mat right_rays_;  ///< same for the right camera
+};
+
+/// Mosaics a BGR image into a single-channel RGGB Bayer pattern (R at (0,0)), as the cameras deliver.
+cv::Mat mosaicRggb(const cv::Mat& bgr);
+
+}  // namespace sim
+}  // namespace underwater_stereo

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file The simulated stereo head as a StereoSource: renders the scene's sequence at a fixed rate.
+
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "underwater_stereo/camera/stereo_source.h"
+#include "underwater_stereo/sim/renderer.h"
+
+namespace underwater_stereo {
+namespace sim {
+
+struct SimSourceConfig {
+  double rate_hz = 15.0;         ///< [Hz] pairs per second; frame k shows scene time k / rate_hz
+  int loop_frames = 0;           ///< > 0: render frames 0..loop_frames-1 once each and then repeat them
+                                 ///< (keeps up at full size); 0: render every frame live (motion never repeats)
+
+  std::vector<std::string> validate() const;
+};
+
+/// Renders pairs in its own thread and delivers them at rate_hz (slower when live rendering cannot keep up).
+class SimStereoSource : public StereoSource {
+ public:
+  /// @throw std::invalid_argument when the config does not validate.
+  SimStereoSource(std::shared_ptr<const Renderer> renderer, const SimSourceConfig& config);
+  ~SimStereoSource() override;
+
+  void start(FrameCallback callback) override;
+  void stop() override;
+
+  /// Renders (or takes from the loop cache) pair number `sequence`.
+  StereoFrame frame(std::uint64_t sequence);
+
+ private:
+  void run(FrameCallback callback);
+
+  std::shared_ptr<const Renderer> renderer_;
+  SimSourceConfig config_;
+  std::map<std::uint64_t, StereoFrame> cache_;  ///< only with loop_frames > 0; touched by the source thread only
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool running_ = false;  ///< guarded by mutex_
+  std::thread thread_;
+};
+
+}  // namespace sim
+}  // namespace underwater_stereo

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/config/yaml_fields.h"
+
+#include <algorithm>
+#include <cstring>
+#include <sstream>
+
+namespace underwater_stereo {
+
+void YamlFields::optionalVector(const YAML::Node& map, const std::string& key, const std::string& path,
+                                std::vector<double>& value, std::size_t expected_size) {
+  const YAML::Node node = map[key];
+  if (!node) return;
+  std::vector<double> read;
+  try {
+    read = node.as<std::vector<double>>();
+  } catch (const YAML::Exception&) {
+    errors_.push_back(path + key + ": expected a list of " + std::to_string(expected_size) + " numbers, got '" +
+                      YAML::Dump(node) + "'");
+    return;
+  }
+  if (read.size() != expected_size) {
+    errors_.push_back(path + key + ": expected " + std::to_string(expected_size) + " numbers, got " +
+                      std::to_string(read.size()));
+    return;
+  }
+  value = read;
+}
+
+void YamlFields::optionalVector3(const YAML::Node& map, const std::string& key, const std::string& path,
+                                 Eigen::Vector3d& value) {
+  std::vector<double> v{value.x(), value.y(), value.z()};
+  optionalVector(map, key, path, v, 3);
+  value = Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
+void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path,
+                          std::initializer_list<const char*> allowed) {
+  if (!map.IsMap()) {
+    errors_.push_back((path.empty() ? std::string("document") : path) + ": expected a map of key: value");
+    return;
+  }
+  for (const auto& entry : map) {
+    const std::string key = entry.first.as<std::string>();
+    const bool known = std::any_of(allowed.begin(), allowed.end(),
+                                   [&](const char* name) { return std::strcmp(name, key.c_str()) == 0; });
+    if (!known) {
+      std::string names;
+      for (const char* name : allowed) names += std::string(names.empty() ? "" : ", ") + name;
+      errors_.push_back(path + key + ": unknown key (known: " + names + ")");
+    }
+  }
+}
+
+std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems) {
+  std::ostringstream out;
+  out << heading << " (" << problems.size() << (problems.size() == 1 ? " problem" : " problems") << "):";
+  for (const auto& p : problems) out << "\n  - " << p;
+  return out.str();
+}
+
+}  // namespace underwater_stereo

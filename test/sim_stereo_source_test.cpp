@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "sim_test_helpers.h"
+#include "underwater_stereo/sim/sim_stereo_source.h"
+
+using namespace underwater_stereo;
+using namespace underwater_stereo::sim;
+
+namespace {
+
+std::shared_ptr<const Renderer> movingBall() {
+  Scene scene = test::smallScene(test::sphere("ball", {0, 0, 2}, 0.3));
+  scene.objects[0].motion.velocity_mps = {0.3, 0, 0};
+  return std::make_shared<const Renderer>(scene);
+}
+
+}  // namespace
+
+TEST(SimStereoSource, FramesShowSceneTimeAtTheConfiguredRate) {
+  SimStereoSource source(movingBall(), {10.0, 0});
+  const StereoFrame f0 = source.frame(0), f5 = source.frame(5);
+  EXPECT_EQ(f5.sequence, 5U);
+  ASSERT_EQ(f5.ground_truth.size(), 1U);
+  // Frame 5 at 10 Hz shows t = 0.5 s: the ball moved 0.15 m.
+  EXPECT_NEAR(f5.ground_truth[0].centre_left_m.x() - f0.ground_truth[0].centre_left_m.x(), 0.15, 1e-9);
+  EXPECT_EQ(f0.encoding, "bgr8");
+  EXPECT_EQ(f0.left.size(), cv::Size(640, 400));
+}
+
+TEST(SimStereoSource, LoopRepeatsCachedFrames) {
+  SimStereoSource source(movingBall(), {10.0, 3});
+  const StereoFrame a = source.frame(1), b = source.frame(4);
+  EXPECT_EQ(b.sequence, 4U);
+  EXPECT_EQ(cv::norm(a.left, b.left, cv::NORM_INF), 0.0);
+  EXPECT_EQ(a.ground_truth[0].centre_left_m, b.ground_truth[0].centre_left_m);
+}
+
+TEST(SimStereoSource, DeliversFramesInOrderUntilStopped) {
+  SimStereoSource source(movingBall(), {50.0, 2});
+  std::atomic<int> count{0};
+  std::atomic<bool> in_order{true};
+  source.start([&](const StereoFrame& f) {
+    if (f.sequence != static_cast<std::uint64_t>(count)) in_order = false;
+    ++count;
+  });
+  EXPECT_THROW(source.start([](const StereoFrame&) {}), std::logic_error);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (count < 5 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  source.stop();
+  const int after_stop = count;
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_GE(after_stop, 5);
+  EXPECT_EQ(count, after_stop) << "no callback after stop()";
+  EXPECT_TRUE(in_order);
+}
+
+TEST(SimStereoSource, InvalidConfigIsRefused) {
+  EXPECT_FALSE((SimSourceConfig{0.0, 0}.validate().empty()));
+  EXPECT_FALSE((SimSourceConfig{15.0, -1}.validate().empty()));
+  EXPECT_TRUE((SimSourceConfig{15.0, 30}.validate().empty()));
+  EXPECT_THROW(SimStereoSource(movingBall(), {-1.0, 0}), std::invalid_argument);
+  EXPECT_THROW(SimStereoSource(nullptr, {15.0, 0}), std::invalid_argument);
+}
