@@ -8,9 +8,11 @@
 #include <rosbag/bag.h>
 #include <yaml-cpp/yaml.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <string>
 
@@ -111,7 +113,10 @@ int main(int argc, char** argv) {
     }
     const std::string prefix = opt.ns.empty() ? "" : "/" + opt.ns;
     for (int k = 0; k < opt.frames; ++k) {
+      const auto started = std::chrono::steady_clock::now();
       const sim::RenderedPair pair = renderer.render(k / opt.rate_hz, static_cast<std::uint64_t>(k));
+      const double render_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
       std_msgs::Header header;
       header.seq = static_cast<std::uint32_t>(k);
       header.stamp = ros::Time(opt.start_time_s + k / opt.rate_hz);
@@ -141,7 +146,8 @@ int main(int argc, char** argv) {
         for (const auto& g : pair.ground_truth) frame["objects"].push_back(groundTruthYaml(g));
         truth_frames.push_back(frame);
       }
-      std::cout << "frame " << k << ":";
+      std::cout << "frame " << k << " (rendered in " << std::fixed << std::setprecision(0) << render_ms << " ms)"
+                << std::setprecision(3) << ":";
       for (const auto& g : pair.ground_truth) {
         std::cout << " " << g.name << " range " << g.range_m << " m, " << g.visible_pixels << " px;";
       }
