@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/colour_segmenter.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <stdexcept>
+
+#include "underwater_stereo/detection/image_checks.h"
+
+namespace underwater_stereo {
+namespace {
+
+void checkRange(std::vector<std::string>& p, const std::string& what, int lo, int hi, int max) {
+  if (lo < 0 || lo > max || hi < 0 || hi > max) {
+    p.push_back(what + ": [" + std::to_string(lo) + ", " + std::to_string(hi) + "] must lie in [0, " +
+                std::to_string(max) + "]");
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> ColourMaskConfig::validate() const {
+  std::vector<std::string> p;
+  if (classes.empty()) p.push_back("colours: at least one designated colour is needed");
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    const ColourClass& c = classes[i];
+    const std::string n = "colours[" + std::to_string(i) + "] (" + c.name + ")";
+    if (c.name.empty()) p.push_back(n + ": name is empty");
+    for (std::size_t j = 0; j < i; ++j) {
+      if (classes[j].name == c.name) p.push_back(n + ": name is used twice");
+    }
+    checkRange(p, n + ".hue", c.hue_min, c.hue_max, 179);
+    checkRange(p, n + ".saturation", c.saturation_min, c.saturation_max, 255);
+    checkRange(p, n + ".value", c.value_min, c.value_max, 255);
+    if (c.saturation_min > c.saturation_max) p.push_back(n + ".saturation: min > max");
+    if (c.value_min > c.value_max) p.push_back(n + ".value: min > max");
+  }
+  if (open_kernel_px < 0 || open_kernel_px > 101) p.push_back("mask.open_kernel_px must be in [0, 101]");
+  if (close_kernel_px < 0 || close_kernel_px > 101) p.push_back("mask.close_kernel_px must be in [0, 101]");
+  return p;
+}
+
+cv::Mat greyWorld(const cv::Mat& bgr) {
+  requireBgr8(bgr, "greyWorld");
+  const cv::Scalar mean = cv::mean(bgr);
+  const double grey = (mean[0] + mean[1] + mean[2]) / 3.0;
+  cv::Mat channels[3];
+  cv::split(bgr, channels);
+  for (int c = 0; c < 3; ++c) channels[c].convertTo(channels[c], CV_8U, grey / std::max(mean[c], 1.0));
+  cv::Mat out;
+  cv::merge(channels, 3, out);
+  return out;
+}
+
+std::vector<cv::Mat> colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
+  requireBgr8(bgr, "colourMasks");
+  cv::Mat hsv;
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  auto kernel = [](int size) {
+    return size > 1 ? cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)) : cv::Mat();
+  };
+  const cv::Mat open_kernel = kernel(config.open_kernel_px);
+  const cv::Mat close_kernel = kernel(config.close_kernel_px);
+  std::vector<cv::Mat> masks;
+  for (const ColourClass& c : config.classes) {
+    cv::Mat mask;
+    const cv::Scalar lo_sv(0, c.saturation_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
+    if (c.hue_min <= c.hue_max) {
+      cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
+    } else {  // wraps through 0 (red)
+      cv::Mat upper;
+      cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(179, hi_sv[1], hi_sv[2]), upper);
+      cv::inRange(hsv, cv::Scalar(0, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
+      mask |= upper;
+    }
+    if (!open_kernel.empty()) cv::morphologyEx(mask, mask, cv::MORPH_OPEN, open_kernel);
+    if (!close_kernel.empty()) cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, close_kernel);
+    masks.push_back(mask);
+  }
+  return masks;
+}
+
+}  // namespace underwater_stereo
