@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Step 3 of the pipeline: 2D regions of interest that carry a designated colour.
+
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/colour_segmenter.h"
+
+namespace underwater_stereo {
+
+enum class ContourSource {
+  kColourMask,     ///< contours of each colour mask (default: edges follow the colour)
+  kGreyThreshold,  ///< the paper: grey, Gaussian blur, threshold, contours kept if they carry the colour
+};
+
+enum class ThresholdMode { kOtsu, kFixed };
+
+struct CandidateConfig {
+  ContourSource source = ContourSource::kColourMask;
+  ThresholdMode threshold = ThresholdMode::kOtsu;  ///< kGreyThreshold only
+  int fixed_threshold = 100;                       ///< grey level for ThresholdMode::kFixed
+  bool dark_objects = true;                        ///< objects darker than the water (inverted threshold)
+  int blur_kernel_px = 5;                          ///< Gaussian blur before thresholding (odd)
+  double min_area_px = 400.0;                      ///< smaller contours are ignored
+  double max_area_px = 1.0e6;                      ///< larger contours are ignored
+  double min_colour_fraction = 0.5;                ///< share of a contour's pixels in one colour mask
+  int max_candidates = 20;                         ///< the largest ones are kept
+
+  std::vector<std::string> validate() const;
+};
+
+/// One 2D region of interest.
+struct Candidate {
+  int colour_index = -1;            ///< index into ColourMaskConfig::classes
+  std::vector<cv::Point> contour;   ///< outer contour, image pixels
+  cv::Rect roi;                     ///< bounding box of the contour
+  cv::Mat mask;                     ///< CV_8UC1 roi-sized: the object's pixels (contour filled AND colour)
+  double area_px = 0.0;             ///< contour area
+  double colour_fraction = 0.0;     ///< share of the contour's pixels in the colour mask
+  std::string outline;              ///< circle, ellipse, triangle, rectangle or polygon
+  cv::Scalar mean_bgr;              ///< mean colour of the object's pixels in the searched image
+};
+
+/// Classifies a closed contour: "circle", "ellipse", "triangle", "rectangle" or "polygon".
+/// @throw std::invalid_argument with fewer than 3 points.
+std::string classifyOutline(const std::vector<cv::Point>& contour);
+
+/// Candidates in `bgr` (the searched image) given its colour masks (one per class, from colourMasks()),
+/// largest first. @throw std::invalid_argument when bgr is not CV_8UC3 or masks do not match it.
+std::vector<Candidate> findCandidates(const cv::Mat& bgr, const std::vector<cv::Mat>& masks,
+                                      const CandidateConfig& config);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file DBSCAN clustering of 3D points over a KD-tree.
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace underwater_stereo {
+
+struct ClusterConfig {
+  double eps_m = 0.04;  ///< [m] neighbourhood radius
+  int min_points = 8;   ///< neighbours (the point included) that make a core point
+
+  std::vector<std::string> validate() const;
+};
+
+/// Clusters of `points` as index lists, largest first; points in no cluster (noise) are left out.
+std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points, const ClusterConfig& config);
+
+}  // namespace underwater_stereo

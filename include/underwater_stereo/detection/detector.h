@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file The whole pipeline on one stereo pair: quality, colour, 2D candidates, ROI stereo, clustering, shape.
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/detector_config.h"
+#include "underwater_stereo/detection/stereo_calibration.h"
+
+namespace underwater_stereo {
+
+/// One object found in a pair. Frames: left optical frame (x right, y down, z forward).
+struct Detection {
+  std::string colour;                 ///< designated colour class
+  cv::Scalar measured_bgr;            ///< mean B, G, R (0-255) of its pixels in the raw left image
+  std::string shape = "unknown";      ///< sphere, cylinder, box, plane, unknown
+  std::string outline;                ///< circle, ellipse, triangle, rectangle, polygon
+  Eigen::Vector3d size_m = Eigen::Vector3d::Zero();   ///< as DetectedObject.size
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  double range_m = 0.0;               ///< |position_m|
+  cv::Rect roi;                       ///< raw left image
+  std::vector<cv::Point> contour;     ///< raw left image
+  double confidence = 0.0;            ///< 0-1
+  std::vector<Eigen::Vector3f> points;  ///< the object's cluster [m]
+  double fit_rmse_m = 0.0;
+};
+
+/// Wall time per stage of the last call [ms].
+struct StageTimings {
+  double quality_ms = 0, colour_ms = 0, contours_ms = 0, stereo_ms = 0, cluster_ms = 0, fit_ms = 0, total_ms = 0;
+};
+
+struct DetectionResult {
+  QualityReport quality;
+  std::vector<Detection> objects;
+  StageTimings timings;
+};
+
+/// Runs the pipeline. Not thread-safe: one instance per thread (it caches rectification maps).
+class Detector {
+ public:
+  /// 3D detector. @throw std::invalid_argument when the config or calibration does not validate.
+  Detector(const DetectorConfig& config, const StereoCalibration& calibration);
+  /// 2D-only detector (no calibration): detect2d() only. @throw std::invalid_argument on invalid config.
+  explicit Detector(const DetectorConfig& config);
+  ~Detector();
+
+  /// Raw (distorted) left and right BGR8 frames of the calibrated size. A spoiled frame is reported with no
+  /// objects. @throw std::invalid_argument on wrong types or sizes, or when built without calibration.
+  DetectionResult detect(const cv::Mat& left_bgr, const cv::Mat& right_bgr);
+  /// Quality, colour and 2D candidates only (colour, outline, roi, measured colour; no 3D fields).
+  /// @throw std::invalid_argument when `bgr` is not a non-empty BGR8 image.
+  DetectionResult detect2d(const cv::Mat& bgr);
+
+  const DetectorConfig& config() const { return config_; }
+
+ private:
+  DetectorConfig config_;
+  std::unique_ptr<class RoiStereoMatcher> matcher_;
+};
+
+}  // namespace underwater_stereo

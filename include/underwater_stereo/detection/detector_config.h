@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Configuration of the whole detection pipeline, as config/detector.yaml holds it.
+
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/candidate_finder.h"
+#include "underwater_stereo/detection/colour_segmenter.h"
+#include "underwater_stereo/detection/dbscan.h"
+#include "underwater_stereo/detection/image_quality.h"
+#include "underwater_stereo/detection/roi_stereo_matcher.h"
+#include "underwater_stereo/detection/shape_fitter.h"
+
+namespace YAML {
+class Node;
+}
+
+namespace underwater_stereo {
+
+struct DetectorConfig {
+  QualityConfig quality;
+  ColourMaskConfig colours;
+  CandidateConfig candidates;
+  StereoMatchConfig stereo;
+  ClusterConfig cluster;
+  ShapeFitConfig shape;
+  int min_cluster_points = 30;  ///< an object needs at least this many 3D points in its main cluster
+
+  /// Every problem of every section.
+  std::vector<std::string> validate() const;
+};
+
+/// Parses the detector configuration (keys as in config/detector.yaml; missing keys keep their defaults).
+/// @throw std::invalid_argument listing every problem (unknown keys, wrong types, invalid values).
+DetectorConfig parseDetectorConfig(const YAML::Node& root);
+/// @throw std::invalid_argument when the file cannot be read or is invalid.
+DetectorConfig loadDetectorConfigFile(const std::string& path);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Step 4 of the pipeline: stereo matching only inside a region of interest.
+///
+/// Rectification maps for the whole frame are computed once from the calibration; per candidate only the
+/// band of rows it covers is rectified (both cameras, the same rectangle), matched with semi-global block
+/// matching over the disparity range of the workspace, and its pixels reprojected to 3D.
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/stereo_calibration.h"
+
+namespace underwater_stereo {
+
+struct StereoMatchConfig {
+  double min_depth_m = 0.5;    ///< [m] workspace: nearest depth searched (largest disparity)
+  double max_depth_m = 5.0;    ///< [m] farthest depth searched
+  int block_size = 5;          ///< SGBM block (odd, 3..11)
+  int uniqueness_ratio = 5;    ///< SGBM: best cost must beat the second by this percentage
+  int margin_px = 12;          ///< context around the ROI for matching
+  int erode_px = 3;            ///< shrink the object's mask by this much (disparities at its edge are unreliable)
+  int max_points = 4000;       ///< mask pixels are sampled on a grid to at most this many points
+
+  std::vector<std::string> validate() const;
+};
+
+/// 3D points of one region, in the left camera's (unrectified) optical frame.
+struct RoiPoints {
+  std::vector<Eigen::Vector3f> points;  ///< [m]
+  int mask_pixels = 0;                  ///< object pixels in the rectified band (after erosion)
+  int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace
+};
+
+class RoiStereoMatcher {
+ public:
+  /// @throw std::invalid_argument when the calibration or config does not validate.
+  RoiStereoMatcher(const StereoCalibration& calibration, const StereoMatchConfig& config);
+
+  /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
+  /// `left`/`right` are raw (distorted) CV_8UC1 frames of the calibrated size.
+  /// @throw std::invalid_argument on wrong types or sizes, or an roi outside the image.
+  RoiPoints match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask) const;
+
+  /// Rectified-frame bounding box of a raw-image rectangle (left camera).
+  cv::Rect rectifiedBox(const cv::Rect& raw_roi) const;
+
+  const StereoCalibration& calibration() const { return calibration_; }
+
+ private:
+  StereoCalibration calibration_;
+  StereoMatchConfig config_;
+  cv::Mat left_map_x_, left_map_y_, right_map_x_, right_map_y_;  ///< CV_32FC1, rectified -> raw pixel
+  cv::Matx33d left_r_transposed_;                                 ///< rectified -> raw left frame
+};
+
+}  // namespace underwater_stereo

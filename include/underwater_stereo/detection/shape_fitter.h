@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Step 5 of the pipeline: which 3D shape an object's points and outline describe, and its size.
+///
+/// The stereo points only cover the visible face and are noisy at range; the 2D outline is sharp to a
+/// pixel. Each model therefore takes its orientation and depth from the points and its extent from the
+/// outline's viewing rays where it can (sphere: the silhouette cone; plane and cylinder: the outline
+/// back-projected onto the fitted surface).
+
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+namespace underwater_stereo {
+
+struct ShapeFitConfig {
+  double min_points = 30;           ///< fewer points: "unknown"
+  double plane_preference = 1.4;    ///< a curved model must cut the plane's RMSE by this factor to win
+  double min_elongation = 2.2;      ///< outline length/width from which an object may be a cylinder
+
+  std::vector<std::string> validate() const;
+};
+
+struct ShapeFit {
+  std::string shape = "unknown";     ///< sphere, cylinder, box, plane or unknown
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();                 ///< [m] left optical frame
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< object z: cylinder axis / plane normal
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();                   ///< [m] as DetectedObject.size
+  double rmse_m = 0.0;                                              ///< of the points about the model
+};
+
+/// Fits the object. `points`: its cluster (left optical frame, metres); `outline_rays`: unit viewing rays
+/// of its 2D contour (left optical frame, lens distortion removed). Returns "unknown" with the points'
+/// centroid and extents when no model fits.
+ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays,
+                  const ShapeFitConfig& config);
+
+}  // namespace underwater_stereo

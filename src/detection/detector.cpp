@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/detector.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/image_checks.h"
+#include "underwater_stereo/detection/roi_stereo_matcher.h"
+
+namespace underwater_stereo {
+namespace {
+
+class Stopwatch {
+ public:
+  double lapMs() {
+    const auto now = std::chrono::steady_clock::now();
+    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+    return ms;
+  }
+
+ private:
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+/// Unit viewing rays (left optical frame, distortion removed) of a raw-image contour.
+std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, const CameraCalibration& c) {
+  std::vector<cv::Point2f> pixels(contour.begin(), contour.end()), normalised;
+  cv::undistortPoints(pixels, normalised, cv::Mat(c.K), cv::Mat(c.D));
+  std::vector<Eigen::Vector3d> rays;
+  rays.reserve(normalised.size());
+  for (const auto& p : normalised) rays.push_back(Eigen::Vector3d(p.x, p.y, 1.0).normalized());
+  return rays;
+}
+
+/// 2D stages shared by detect() and detect2d(): quality, colour masks, candidates.
+struct FrontEnd {
+  QualityReport quality;
+  cv::Mat searched;  ///< the image the colours were searched in (white-balanced, enhanced)
+  std::vector<Candidate> candidates;
+};
+
+FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, StageTimings& t, Stopwatch& watch) {
+  FrontEnd out;
+  out.quality = assessQuality(bgr, config.quality);
+  t.quality_ms = watch.lapMs();
+  if (out.quality.spoiled()) return out;
+  out.searched = out.quality.enhanced ? enhanceContrast(bgr, config.quality) : bgr;
+  if (config.colours.grey_world) out.searched = greyWorld(out.searched);
+  const std::vector<cv::Mat> masks = colourMasks(out.searched, config.colours);
+  t.colour_ms = watch.lapMs();
+  out.candidates = findCandidates(out.searched, masks, config.candidates);
+  t.contours_ms = watch.lapMs();
+  return out;
+}
+
+Detection describe2d(const Candidate& c, const cv::Mat& raw_bgr, const DetectorConfig& config) {
+  Detection d;
+  d.colour = config.colours.classes[c.colour_index].name;
+  d.outline = c.outline;
+  d.roi = c.roi;
+  d.contour = c.contour;
+  d.measured_bgr = cv::mean(raw_bgr(c.roi), c.mask);
+  d.confidence = c.colour_fraction;
+  return d;
+}
+
+}  // namespace
+
+Detector::Detector(const DetectorConfig& config, const StereoCalibration& calibration) : config_(config) {
+  const auto problems = config_.validate();
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
+  matcher_ = std::make_unique<RoiStereoMatcher>(calibration, config_.stereo);
+}
+
+Detector::Detector(const DetectorConfig& config) : config_(config) {
+  const auto problems = config_.validate();
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
+}
+
+Detector::~Detector() = default;
+
+DetectionResult Detector::detect2d(const cv::Mat& bgr) {
+  requireBgr8(bgr, "Detector::detect2d");
+  DetectionResult result;
+  Stopwatch watch, total;
+  const FrontEnd front = runFrontEnd(bgr, config_, result.timings, watch);
+  result.quality = front.quality;
+  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, bgr, config_));
+  result.timings.total_ms = total.lapMs();
+  return result;
+}
+
+DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_bgr) {
+  if (!matcher_) throw std::invalid_argument("Detector::detect: built without calibration (2D only)");
+  requireBgr8(left_bgr, "Detector::detect (left)");
+  requireBgr8(right_bgr, "Detector::detect (right)");
+  const CameraCalibration& cal = matcher_->calibration().left;
+  if (left_bgr.size() != cv::Size(cal.width, cal.height) || right_bgr.size() != left_bgr.size()) {
+    throw std::invalid_argument("Detector::detect: images are " + std::to_string(left_bgr.cols) + "x" +
+                                std::to_string(left_bgr.rows) + " and " + std::to_string(right_bgr.cols) + "x" +
+                                std::to_string(right_bgr.rows) + ", calibration is " + std::to_string(cal.width) +
+                                "x" + std::to_string(cal.height));
+  }
+  DetectionResult result;
+  Stopwatch watch, total;
+  const FrontEnd front = runFrontEnd(left_bgr, config_, result.timings, watch);
+  result.quality = front.quality;
+  if (front.candidates.empty()) {
+    result.timings.total_ms = total.lapMs();
+    return result;
+  }
+  cv::Mat left_grey, right_grey;
+  cv::cvtColor(left_bgr, left_grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(right_bgr, right_grey, cv::COLOR_BGR2GRAY);
+  for (const Candidate& c : front.candidates) {
+    Stopwatch stage;
+    const RoiPoints roi_points = matcher_->match(left_grey, right_grey, c.roi, c.mask);
+    result.timings.stereo_ms += stage.lapMs();
+    const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
+    result.timings.cluster_ms += stage.lapMs();
+    if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) continue;
+    Detection d = describe2d(c, left_bgr, config_);
+    for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
+    const ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), config_.shape);
+    result.timings.fit_ms += stage.lapMs();
+    if (!fit.centre.allFinite() || !fit.size.allFinite()) continue;  // never report NaN
+    d.shape = fit.shape;
+    d.position_m = fit.centre;
+    d.orientation = fit.orientation;
+    d.size_m = fit.size;
+    d.range_m = fit.centre.norm();
+    d.fit_rmse_m = fit.rmse_m;
+    const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
+    d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / 0.02);
+    result.objects.push_back(std::move(d));
+  }
+  result.timings.total_ms = total.lapMs();
+  return result;
+}
+
+}  // namespace underwater_stereo

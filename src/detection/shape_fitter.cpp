@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/shape_fitter.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace underwater_stereo {
+namespace {
+
+struct Pca {
+  Eigen::Vector3d mean;
+  Eigen::Matrix3d axes;      ///< columns: largest to smallest variance
+  Eigen::Vector3d variance;  ///< largest first
+};
+
+Pca pca(const std::vector<Eigen::Vector3d>& pts) {
+  Pca out;
+  out.mean = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) out.mean += p;
+  out.mean /= static_cast<double>(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - out.mean) * (p - out.mean).transpose();
+  cov /= static_cast<double>(pts.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);  // ascending
+  for (int i = 0; i < 3; ++i) {
+    out.axes.col(i) = eig.eigenvectors().col(2 - i);
+    out.variance[i] = std::max(0.0, eig.eigenvalues()[2 - i]);
+  }
+  return out;
+}
+
+/// Intersections of rays from the optical centre with the plane n.x = d (rays nearly parallel skipped).
+std::vector<Eigen::Vector3d> onPlane(const std::vector<Eigen::Vector3d>& rays, const Eigen::Vector3d& n, double d) {
+  std::vector<Eigen::Vector3d> out;
+  for (const auto& r : rays) {
+    const double denom = n.dot(r);
+    if (std::abs(denom) > 1e-3 && d / denom > 0) out.push_back(r * (d / denom));
+  }
+  return out;
+}
+
+/// Extent of points along a unit direction.
+std::pair<double, double> span(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& dir) {
+  double lo = std::numeric_limits<double>::max(), hi = -lo;
+  for (const auto& p : pts) {
+    lo = std::min(lo, p.dot(dir));
+    hi = std::max(hi, p.dot(dir));
+  }
+  return {lo, hi};
+}
+
+Eigen::Quaterniond frameWithZ(const Eigen::Vector3d& z, const Eigen::Vector3d& x_hint) {
+  const Eigen::Vector3d zn = z.normalized();
+  Eigen::Vector3d x = (x_hint - x_hint.dot(zn) * zn);
+  if (x.norm() < 1e-6) x = zn.unitOrthogonal();
+  x.normalize();
+  Eigen::Matrix3d r;
+  r.col(0) = x;
+  r.col(1) = zn.cross(x);
+  r.col(2) = zn;
+  return Eigen::Quaterniond(r);
+}
+
+ShapeFit fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+  ShapeFit fit;
+  fit.shape = "plane";
+  Eigen::Vector3d n = p.axes.col(2);
+  if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
+  fit.rmse_m = std::sqrt(p.variance[2]);
+  const std::vector<Eigen::Vector3d> outline = onPlane(rays, n, n.dot(p.mean));
+  const std::vector<Eigen::Vector3d>& extent_pts = outline.size() >= 3 ? outline : pts;
+  const Eigen::Vector3d u = p.axes.col(0), v = n.cross(u);
+  const auto [u0, u1] = span(extent_pts, u);
+  const auto [v0, v1] = span(extent_pts, v);
+  const double depth = n.dot(p.mean);
+  fit.centre = u * (u0 + u1) / 2 + v * (v0 + v1) / 2 + n * depth;
+  fit.size = Eigen::Vector3d(u1 - u0, v1 - v0, 0.0);
+  fit.orientation = frameWithZ(n, u);
+  return fit;
+}
+
+/// Sphere whose silhouette is the outline's cone: only its distance along the cone axis is fitted.
+ShapeFit fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
+  ShapeFit fit;
+  fit.shape = "sphere";
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  for (const auto& r : rays) axis += r;
+  axis.normalize();
+  double half_angle = 0.0;
+  for (const auto& r : rays) half_angle += std::acos(std::clamp(r.dot(axis), -1.0, 1.0));
+  half_angle /= static_cast<double>(rays.size());
+  const double s = std::sin(half_angle);
+  auto cost = [&](double c) {
+    double sum = 0.0;
+    for (const auto& p : pts) {
+      const double e = (p - c * axis).norm() - c * s;
+      sum += e * e;
+    }
+    return sum;
+  };
+  // Golden-section search for the distance to the centre, bracketed around the points' depth.
+  double median_range = 0.0;
+  {
+    std::vector<double> ranges;
+    for (const auto& p : pts) ranges.push_back(p.norm());
+    std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+    median_range = ranges[ranges.size() / 2];
+  }
+  double a = median_range * 0.7, b = median_range / std::max(0.05, 1.0 - s) * 1.3;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double c1 = b - g * (b - a), c2 = a + g * (b - a), f1 = cost(c1), f2 = cost(c2);
+  for (int i = 0; i < 60; ++i) {
+    if (f1 < f2) {
+      b = c2;
+      c2 = c1;
+      f2 = f1;
+      c1 = b - g * (b - a);
+      f1 = cost(c1);
+    } else {
+      a = c1;
+      c1 = c2;
+      f1 = f2;
+      c2 = a + g * (b - a);
+      f2 = cost(c2);
+    }
+  }
+  const double c = (a + b) / 2;
+  fit.centre = c * axis;
+  fit.size = Eigen::Vector3d::Constant(2 * c * s);
+  fit.rmse_m = std::sqrt(cost(c) / static_cast<double>(pts.size()));
+  return fit;
+}
+
+/// Cylinder lying along the points' main axis; diameter and length from the outline on the plane through
+/// the axis that faces the camera; the axis sits a radius behind the visible surface.
+ShapeFit fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+  ShapeFit fit;
+  fit.shape = "cylinder";
+  const Eigen::Vector3d axis = p.axes.col(0);
+  Eigen::Vector3d view = p.mean - p.mean.dot(axis) * axis;  // towards the object, across the axis
+  view.normalize();
+  const Eigen::Vector3d across = axis.cross(view).normalized();
+  // First pass: radius from the outline on the plane through the visible surface.
+  std::vector<Eigen::Vector3d> outline = onPlane(rays, view, view.dot(p.mean));
+  if (outline.size() < 3) return fit;
+  auto [w0, w1] = span(outline, across);
+  double radius = (w1 - w0) / 2;
+  // Second pass: the axis plane lies ~ radius * pi/4 behind the mean of the visible half-surface.
+  const Eigen::Vector3d on_axis = p.mean + view * radius * M_PI / 4;
+  outline = onPlane(rays, view, view.dot(on_axis));
+  std::tie(w0, w1) = span(outline, across);
+  radius = (w1 - w0) / 2;
+  const auto [l0, l1] = span(outline, axis);
+  const Eigen::Vector3d base = on_axis - axis * on_axis.dot(axis) - across * on_axis.dot(across);
+  fit.centre = base + axis * (l0 + l1) / 2 + across * (w0 + w1) / 2;
+  fit.size = Eigen::Vector3d(2 * radius, 2 * radius, l1 - l0);
+  fit.orientation = frameWithZ(axis, across);
+  double sum = 0.0;
+  for (const auto& q : pts) {
+    const Eigen::Vector3d rel = q - fit.centre;
+    const double e = (rel - rel.dot(axis) * axis).norm() - radius;
+    sum += e * e;
+  }
+  fit.rmse_m = std::sqrt(sum / static_cast<double>(pts.size()));
+  return fit;
+}
+
+/// Elongation of the outline (as seen): ratio of its principal extents in the image plane.
+double outlineElongation(const std::vector<Eigen::Vector3d>& rays) {
+  std::vector<Eigen::Vector3d> flat;
+  for (const auto& r : rays) flat.push_back(r / r.z());
+  const Pca p = pca(flat);
+  const auto [a0, a1] = span(flat, p.axes.col(0));
+  const auto [b0, b1] = span(flat, p.axes.col(1));
+  return (a1 - a0) / std::max(1e-9, b1 - b0);
+}
+
+}  // namespace
+
+std::vector<std::string> ShapeFitConfig::validate() const {
+  std::vector<std::string> p;
+  if (min_points < 3) p.push_back("shape.min_points must be >= 3");
+  if (!(plane_preference >= 1.0 && plane_preference <= 10.0)) p.push_back("shape.plane_preference must be in [1, 10]");
+  if (!(min_elongation >= 1.0 && min_elongation <= 20.0)) p.push_back("shape.min_elongation must be in [1, 20]");
+  return p;
+}
+
+ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vector<Eigen::Vector3d>& outline_rays,
+                  const ShapeFitConfig& config) {
+  std::vector<Eigen::Vector3d> pts;
+  pts.reserve(points_f.size());
+  for (const auto& p : points_f) pts.push_back(p.cast<double>());
+  ShapeFit unknown;
+  if (pts.empty()) return unknown;
+  const Pca p = pca(pts);
+  unknown.centre = p.mean;
+  for (int i = 0; i < 3; ++i) {
+    const auto [lo, hi] = span(pts, Eigen::Vector3d::Unit(i));
+    unknown.size[i] = hi - lo;
+  }
+  if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
+
+  const ShapeFit plane = fitPlane(pts, p, outline_rays);
+  ShapeFit best = plane;
+  const ShapeFit curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
+                                                                                   : fitSphere(pts, outline_rays);
+  if (curved.shape != "unknown" && curved.rmse_m * config.plane_preference < plane.rmse_m) best = curved;
+  return best;
+}
+
+}  // namespace underwater_stereo
