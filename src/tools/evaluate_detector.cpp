@@ -20,7 +20,7 @@ namespace {
 using namespace underwater_stereo;
 
 const char* kUsage =
-    "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] SCENE.yaml...\n"
+    "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "  Renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, and compares with ground truth.\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
 
@@ -50,6 +50,8 @@ double sizeError(const sim::GroundTruthObject& gt, const Detection& d) {
   return worst;
 }
 
+bool verbose = false;
+
 void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, const DetectionResult& r,
                 const std::vector<std::string>& designated) {
   ++s.frames;
@@ -69,6 +71,16 @@ void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, cons
       }
     }
     if (match >= 0) used[match] = true;
+    if (verbose) {
+      std::cerr << "  truth " << gt.name << " " << gt.shape << " size " << gt.size_m.transpose() << " at "
+                << gt.centre_left_m.transpose() << " (" << gt.visible_pixels << " px)";
+      if (match >= 0) {
+        const Detection& d = r.objects[match];
+        std::cerr << "\n    found " << d.colour << " " << d.shape << "/" << d.outline << " size " << d.size_m.transpose()
+                  << " at " << d.position_m.transpose() << " rmse " << d.fit_rmse_m << " points " << d.points.size();
+      }
+      std::cerr << "\n";
+    }
     if (!eligible) continue;
     ++s.eligible;
     if (match < 0) continue;
@@ -82,7 +94,13 @@ void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, cons
       s.shape_correct += d.shape == gt.shape;
     }
   }
-  for (bool u : used) s.false_detections += !u;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    s.false_detections += !used[i];
+    if (verbose && !used[i]) {
+      std::cerr << "  FALSE " << r.objects[i].colour << " " << r.objects[i].shape << " at "
+                << r.objects[i].position_m.transpose() << " roi " << r.objects[i].roi << "\n";
+    }
+  }
 }
 
 void printRow(const std::string& name, const Stats& s) {
@@ -118,7 +136,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--config" || a == "--frames" || a == "--rate") && i + 1 < argc) {
+    if (a == "--verbose") {
+      verbose = true;
+    } else if ((a == "--config" || a == "--frames" || a == "--rate") && i + 1 < argc) {
       const std::string v = argv[++i];
       if (a == "--config") config_path = v;
       else if (a == "--frames") frames = std::atoi(v.c_str());
