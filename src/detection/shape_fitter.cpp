@@ -52,6 +52,43 @@ std::pair<double, double> span(const std::vector<Eigen::Vector3d>& pts, const Ei
   return {lo, hi};
 }
 
+/// RMS of the model's residuals after averaging them over a 6x6 grid of viewing directions: stereo noise
+/// averages out, while a wrong model leaves a systematic pattern (a plane through a sphere's cap errs at
+/// the centre and the rim in opposite directions).
+double structuredRmse(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& residuals) {
+  constexpr int kCells = 6;
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+  for (const auto& p : pts) {
+    x0 = std::min(x0, p.x() / p.z());
+    x1 = std::max(x1, p.x() / p.z());
+    y0 = std::min(y0, p.y() / p.z());
+    y1 = std::max(y1, p.y() / p.z());
+  }
+  double sum[kCells][kCells] = {}, count[kCells][kCells] = {};
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const int cx = std::clamp(static_cast<int>((pts[i].x() / pts[i].z() - x0) / (x1 - x0 + 1e-12) * kCells), 0, kCells - 1);
+    const int cy = std::clamp(static_cast<int>((pts[i].y() / pts[i].z() - y0) / (y1 - y0 + 1e-12) * kCells), 0, kCells - 1);
+    sum[cy][cx] += residuals[i];
+    count[cy][cx] += 1;
+  }
+  double total = 0, n = 0;
+  for (int a = 0; a < kCells; ++a) {
+    for (int b = 0; b < kCells; ++b) {
+      if (count[a][b] < 3) continue;
+      const double mean = sum[a][b] / count[a][b];
+      total += mean * mean * count[a][b];
+      n += count[a][b];
+    }
+  }
+  return n > 0 ? std::sqrt(total / n) : 0.0;
+}
+
+double rms(const std::vector<double>& residuals) {
+  double sum = 0;
+  for (double r : residuals) sum += r * r;
+  return residuals.empty() ? 0.0 : std::sqrt(sum / residuals.size());
+}
+
 Eigen::Quaterniond frameWithZ(const Eigen::Vector3d& z, const Eigen::Vector3d& x_hint) {
   const Eigen::Vector3d zn = z.normalized();
   Eigen::Vector3d x = (x_hint - x_hint.dot(zn) * zn);
@@ -64,12 +101,25 @@ Eigen::Quaterniond frameWithZ(const Eigen::Vector3d& z, const Eigen::Vector3d& x
   return Eigen::Quaterniond(r);
 }
 
-ShapeFit fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+/// A fitted model and how well it explains the points' shape (structuredRmse, lower is better).
+struct Scored {
   ShapeFit fit;
-  fit.shape = "plane";
+  double structure_m = std::numeric_limits<double>::infinity();
+};
+
+Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+  Scored scored;
+  ShapeFit& fit = scored.fit;
   Eigen::Vector3d n = p.axes.col(2);
   if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
-  fit.rmse_m = std::sqrt(p.variance[2]);
+  // A plane seen nearly edge-on is not a plane we can measure (and a strip of points along a tube
+  // leaves its normal undetermined).
+  if (-n.dot(p.mean.normalized()) < 0.25) return scored;
+  fit.shape = "plane";
+  std::vector<double> residuals;
+  for (const auto& q : pts) residuals.push_back(n.dot(q - p.mean));
+  fit.rmse_m = rms(residuals);
+  scored.structure_m = structuredRmse(pts, residuals);
   const std::vector<Eigen::Vector3d> outline = onPlane(rays, n, n.dot(p.mean));
   const std::vector<Eigen::Vector3d>& extent_pts = outline.size() >= 3 ? outline : pts;
   const Eigen::Vector3d u = p.axes.col(0), v = n.cross(u);
@@ -79,12 +129,13 @@ ShapeFit fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const s
   fit.centre = u * (u0 + u1) / 2 + v * (v0 + v1) / 2 + n * depth;
   fit.size = Eigen::Vector3d(u1 - u0, v1 - v0, 0.0);
   fit.orientation = frameWithZ(n, u);
-  return fit;
+  return scored;
 }
 
 /// Sphere whose silhouette is the outline's cone: only its distance along the cone axis is fitted.
-ShapeFit fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
-  ShapeFit fit;
+Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
+  Scored scored;
+  ShapeFit& fit = scored.fit;
   fit.shape = "sphere";
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   for (const auto& r : rays) axis += r;
@@ -130,22 +181,26 @@ ShapeFit fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Ei
   const double c = (a + b) / 2;
   fit.centre = c * axis;
   fit.size = Eigen::Vector3d::Constant(2 * c * s);
-  fit.rmse_m = std::sqrt(cost(c) / static_cast<double>(pts.size()));
-  return fit;
+  std::vector<double> residuals;
+  for (const auto& p : pts) residuals.push_back((p - fit.centre).norm() - c * s);
+  fit.rmse_m = rms(residuals);
+  scored.structure_m = structuredRmse(pts, residuals);
+  return scored;
 }
 
 /// Cylinder lying along the points' main axis; diameter and length from the outline on the plane through
 /// the axis that faces the camera; the axis sits a radius behind the visible surface.
-ShapeFit fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
-  ShapeFit fit;
-  fit.shape = "cylinder";
+Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+  Scored scored;
+  ShapeFit& fit = scored.fit;
   const Eigen::Vector3d axis = p.axes.col(0);
   Eigen::Vector3d view = p.mean - p.mean.dot(axis) * axis;  // towards the object, across the axis
   view.normalize();
   const Eigen::Vector3d across = axis.cross(view).normalized();
   // First pass: radius from the outline on the plane through the visible surface.
   std::vector<Eigen::Vector3d> outline = onPlane(rays, view, view.dot(p.mean));
-  if (outline.size() < 3) return fit;
+  if (outline.size() < 3) return scored;
+  fit.shape = "cylinder";
   auto [w0, w1] = span(outline, across);
   double radius = (w1 - w0) / 2;
   // Second pass: the axis plane lies ~ radius * pi/4 behind the mean of the visible half-surface.
@@ -158,14 +213,14 @@ ShapeFit fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, cons
   fit.centre = base + axis * (l0 + l1) / 2 + across * (w0 + w1) / 2;
   fit.size = Eigen::Vector3d(2 * radius, 2 * radius, l1 - l0);
   fit.orientation = frameWithZ(axis, across);
-  double sum = 0.0;
+  std::vector<double> residuals;
   for (const auto& q : pts) {
     const Eigen::Vector3d rel = q - fit.centre;
-    const double e = (rel - rel.dot(axis) * axis).norm() - radius;
-    sum += e * e;
+    residuals.push_back((rel - rel.dot(axis) * axis).norm() - radius);
   }
-  fit.rmse_m = std::sqrt(sum / static_cast<double>(pts.size()));
-  return fit;
+  fit.rmse_m = rms(residuals);
+  scored.structure_m = structuredRmse(pts, residuals);
+  return scored;
 }
 
 /// Elongation of the outline (as seen): ratio of its principal extents in the image plane.
@@ -203,12 +258,13 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   }
   if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
 
-  const ShapeFit plane = fitPlane(pts, p, outline_rays);
-  ShapeFit best = plane;
-  const ShapeFit curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
-                                                                                   : fitSphere(pts, outline_rays);
-  if (curved.shape != "unknown" && curved.rmse_m * config.plane_preference < plane.rmse_m) best = curved;
-  return best;
+  const Scored plane = fitPlane(pts, p, outline_rays);
+  const Scored curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
+                                                                                 : fitSphere(pts, outline_rays);
+  const bool curved_ok = curved.fit.shape != "unknown" && curved.fit.centre.allFinite();
+  if (curved_ok && curved.structure_m * config.plane_preference < plane.structure_m) return curved.fit;
+  if (plane.fit.shape != "unknown") return plane.fit;
+  return curved_ok ? curved.fit : unknown;
 }
 
 }  // namespace underwater_stereo
