@@ -127,7 +127,7 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
     if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) continue;
     Detection d = describe2d(c, left_bgr, config_);
     for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
-    const ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), config_.shape);
+    const ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), c.outline, config_.shape);
     result.timings.fit_ms += stage.lapMs();
     if (!fit.centre.allFinite() || !fit.size.allFinite()) continue;  // never report NaN
     d.shape = fit.shape;

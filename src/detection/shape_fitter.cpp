@@ -244,7 +244,7 @@ std::vector<std::string> ShapeFitConfig::validate() const {
 }
 
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vector<Eigen::Vector3d>& outline_rays,
-                  const ShapeFitConfig& config) {
+                  const std::string& outline, const ShapeFitConfig& config) {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(points_f.size());
   for (const auto& p : points_f) pts.push_back(p.cast<double>());
@@ -262,7 +262,12 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   const Scored curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
                                                                                  : fitSphere(pts, outline_rays);
   const bool curved_ok = curved.fit.shape != "unknown" && curved.fit.centre.allFinite();
-  if (curved_ok && curved.structure_m * config.plane_preference < plane.structure_m) return curved.fit;
+  // Stereo smoothing flattens smooth curved surfaces, so the 2D outline decides close calls: a round
+  // outline is a sphere unless the plane is clearly better, anything else a plane unless the curve is.
+  const bool round = outline == "circle" || outline == "ellipse";
+  const bool curved_wins = round ? curved.structure_m < plane.structure_m * config.plane_preference
+                                 : curved.structure_m * config.plane_preference < plane.structure_m;
+  if (curved_ok && curved_wins) return curved.fit;
   if (plane.fit.shape != "unknown") return plane.fit;
   return curved_ok ? curved.fit : unknown;
 }

@@ -16,7 +16,7 @@ namespace underwater_stereo {
 
 struct ShapeFitConfig {
   double min_points = 30;           ///< fewer points: "unknown"
-  double plane_preference = 1.4;    ///< a curved model must cut the plane's RMSE by this factor to win
+  double plane_preference = 1.4;    ///< margin by which the model the outline does not favour must win
   double min_elongation = 2.2;      ///< outline length/width from which an object may be a cylinder
 
   std::vector<std::string> validate() const;
@@ -31,9 +31,10 @@ struct ShapeFit {
 };
 
 /// Fits the object. `points`: its cluster (left optical frame, metres); `outline_rays`: unit viewing rays
-/// of its 2D contour (left optical frame, lens distortion removed). Returns "unknown" with the points'
-/// centroid and extents when no model fits.
+/// of its 2D contour (left optical frame, lens distortion removed); `outline`: the contour's class
+/// (classifyOutline), which settles close calls between plane and sphere. Returns "unknown" with the
+/// points' centroid and extents when no model fits.
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays,
-                  const ShapeFitConfig& config);
+                  const std::string& outline, const ShapeFitConfig& config);
 
 }  // namespace underwater_stereo
