@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The whole pipeline on rendered scenes with ground truth, plus its configuration and bad input.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <limits>
+
+#include "sim_test_helpers.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/sim/renderer.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+DetectorConfig defaultConfig() { return loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"); }
+
+sim::Scene twoBuoys() {
+  sim::Scene s = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+  s.sensor.encoding = "bgr8";
+  return s;
+}
+
+}  // namespace
+
+TEST(Detector, FindsBothBuoysWithRangeAndPositionWithin3Percent) {
+  const sim::Renderer renderer(twoBuoys());
+  Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const DetectionResult r = detector.detect(pair.left, pair.right);
+  EXPECT_EQ(r.quality.status, QualityStatus::kOk);
+  ASSERT_EQ(r.objects.size(), 2U);
+  for (const auto& gt : pair.ground_truth) {
+    const auto d = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& o) { return o.colour == gt.colour; });
+    ASSERT_NE(d, r.objects.end()) << gt.name;
+    EXPECT_NEAR(d->range_m, gt.range_m, 0.03 * gt.range_m) << gt.name;
+    EXPECT_LT((d->position_m - gt.centre_left_m).norm(), 0.03 * gt.range_m) << gt.name;
+    // Size within 10 % up to 3 m (at this test's 640x400 a buoy at 3.2 m is 48 px across).
+    if (gt.range_m <= 3.0) EXPECT_NEAR(d->size_m.x(), gt.size_m.x(), 0.1 * gt.size_m.x()) << gt.name;
+    EXPECT_GT(d->points.size(), 30U);
+    EXPECT_GT(d->confidence, 0.0);
+    EXPECT_LE(d->confidence, 1.0);
+    EXPECT_TRUE(gt.roi_left.contains((d->roi.tl() + d->roi.br()) / 2)) << gt.name;
+  }
+  EXPECT_GT(r.timings.total_ms, 0.0);
+}
+
+TEST(Detector, SpoiledFrameIsReportedNotSearched) {
+  sim::Scene dark = twoBuoys();
+  dark.light.exposure = 0.01;
+  const sim::Renderer renderer(dark);
+  Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const DetectionResult r = detector.detect(pair.left, pair.right);
+  EXPECT_EQ(r.quality.status, QualityStatus::kTooDark);
+  EXPECT_TRUE(r.objects.empty());
+}
+
+TEST(Detector, EmptySceneGivesNothing) {
+  sim::Scene empty = twoBuoys();
+  empty.objects.clear();
+  const sim::Renderer renderer(empty);
+  Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  EXPECT_TRUE(detector.detect(pair.left, pair.right).objects.empty());
+}
+
+TEST(Detector, TwoDimensionalModeNeedsNoCalibration) {
+  const sim::Renderer renderer(twoBuoys());
+  Detector detector(defaultConfig());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const DetectionResult r = detector.detect2d(pair.left);
+  ASSERT_EQ(r.objects.size(), 2U);
+  EXPECT_EQ(r.objects[0].shape, "unknown");
+  EXPECT_THROW(detector.detect(pair.left, pair.right), std::invalid_argument);
+}
+
+TEST(Detector, GarbageInputThrows) {
+  const sim::Renderer renderer(twoBuoys());
+  Detector detector(defaultConfig(), renderer.calibration());
+  const cv::Mat good(400, 640, CV_8UC3, cv::Scalar(100, 100, 100));
+  EXPECT_THROW(detector.detect(cv::Mat(), good), std::invalid_argument);
+  EXPECT_THROW(detector.detect(good, cv::Mat(400, 640, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(detector.detect(good, cv::Mat(200, 320, CV_8UC3, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(detector.detect(cv::Mat(200, 320, CV_8UC3), cv::Mat(200, 320, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(detector.detect2d(cv::Mat()), std::invalid_argument);
+}
+
+TEST(Detector, NanOrMissingCalibrationIsRefused) {
+  StereoCalibration calibration = sim::Renderer(twoBuoys()).calibration();
+  calibration.left.K(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(Detector(defaultConfig(), calibration), std::invalid_argument);
+  EXPECT_THROW(Detector(defaultConfig(), StereoCalibration{}), std::invalid_argument);
+}
+
+TEST(DetectorConfig, ShippedFileIsValidAndHasThePaperDefaults) {
+  const DetectorConfig c = defaultConfig();
+  EXPECT_EQ(c.quality.too_dark_below, 20.0);
+  EXPECT_EQ(c.quality.too_bright_above, 200.0);
+  EXPECT_EQ(c.colours.open_kernel_px, 10);
+  EXPECT_EQ(c.colours.close_kernel_px, 10);
+  ASSERT_GE(c.colours.classes.size(), 2U);
+  EXPECT_EQ(c.colours.classes[0].name, "red");
+  EXPECT_GT(c.colours.classes[0].hue_min, c.colours.classes[0].hue_max) << "red wraps through 0";
+}
+
+TEST(DetectorConfig, ListsEveryProblem) {
+  try {
+    parseDetectorConfig(YAML::Load(R"(
+quality: {too_dark_below: 250}
+colours:
+  - {name: red, hue: [170]}
+  - {hue: [10, 20]}
+candidates: {source: magic, min_area_px: abc}
+stereo: {min_depth_m: 6}
+speed: fast
+)"));
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("speed: unknown key"), std::string::npos) << m;
+    EXPECT_NE(m.find("colours[0].hue: expected 2 numbers"), std::string::npos) << m;
+    EXPECT_NE(m.find("colours[1].name: missing"), std::string::npos) << m;
+    EXPECT_NE(m.find("'magic' is not colour_mask or grey_threshold"), std::string::npos) << m;
+    EXPECT_NE(m.find("candidates.min_area_px: expected a number"), std::string::npos) << m;
+  }
+  EXPECT_THROW(parseDetectorConfig(YAML::Load("stereo: {min_depth_m: 6}\ncolours: [{name: red, hue: [0, 10]}]")),
+               std::invalid_argument);
+  EXPECT_THROW(loadDetectorConfigFile("/nonexistent.yaml"), std::invalid_argument);
+}
