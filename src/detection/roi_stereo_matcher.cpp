@@ -74,7 +74,7 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
   const int min_disparity = static_cast<int>(std::floor(d_min));
-  const int num_disparities = ((static_cast<int>(std::ceil(d_max)) - min_disparity + 15) / 16) * 16;
+  int num_disparities = ((static_cast<int>(std::ceil(d_max)) - min_disparity + 15) / 16) * 16;
 
   // The band: the object's rectified box plus margin, widened to the left by the largest disparity so the
   // right camera's view of the object is inside the same rectangle.
@@ -83,7 +83,11 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
                 box.width + 2 * config_.margin_px + min_disparity + num_disparities, box.height + 2 * config_.margin_px);
   band &= cv::Rect(cv::Point(), size);
   RoiPoints out;
-  if (band.width <= num_disparities + config_.block_size || band.height < config_.block_size) return out;
+  // Near the left edge the band is clipped: only disparities that fit in it can be searched (SGBM needs
+  // width > minDisparity + numDisparities, or it fails to allocate).
+  const int fitting = ((band.width - min_disparity - config_.block_size - 1) / 16) * 16;
+  num_disparities = std::min(num_disparities, fitting);
+  if (num_disparities < 16 || band.height < config_.block_size) return out;
 
   cv::Mat left_band, right_band, mask_band;
   cv::remap(left, left_band, left_map_x_(band), left_map_y_(band), cv::INTER_LINEAR);
