@@ -124,17 +124,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
 }
 
 DetectorConfig loadDetectorConfigFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("cannot read detector configuration '" + path + "': " + e.what());
-  }
-  try {
-    return parseDetectorConfig(root);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
+  return parseYamlFile(path, "detector configuration", parseDetectorConfig);
 }
 
 }  // namespace underwater_stereo

@@ -219,19 +219,7 @@ Scene parseScene(const YAML::Node& root) {
   return s;
 }
 
-Scene loadSceneFile(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument("cannot read scene file '" + path + "': " + e.what());
-  }
-  try {
-    return parseScene(root);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
-}
+Scene loadSceneFile(const std::string& path) { return parseYamlFile(path, "scene file", parseScene); }
 
 }  // namespace sim
 }  // namespace underwater_stereo

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <initializer_list>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -70,5 +71,22 @@ inline const char* YamlFields::typeName<std::string>() { return "a string"; }
 
 /// Joins problems into one message, one per line, for an exception or a log.
 std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems);
+
+/// Loads the YAML file at `path` and hands its root to `parse`. @throw std::invalid_argument naming the
+/// file (and `what` it should hold) when it cannot be read, or with `parse`'s message prefixed by the path.
+template <typename Parse>
+auto parseYamlFile(const std::string& path, const std::string& what, Parse parse) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.what());
+  }
+  try {
+    return parse(root);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+}
 
 }  // namespace underwater_stereo

@@ -62,7 +62,7 @@ class Detector {
 
  private:
   DetectorConfig config_;
-  std::unique_ptr<class RoiStereoMatcher> matcher_;
+  std::unique_ptr<RoiStereoMatcher> matcher_;
 };
 
 }  // namespace underwater_stereo
