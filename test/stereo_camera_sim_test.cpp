@@ -39,6 +39,13 @@ struct Recorder {
     left_info = li;
     right_info = ri;
   }
+
+  /// Ground-truth messages whose stamp is one of a received pair's (call with mutex held).
+  int truthsMatchingAPair() const {
+    int n = 0;
+    for (const auto& t : truths) n += static_cast<int>(pair_stamps.count(t->header.stamp));
+    return n;
+  }
 };
 
 }  // namespace
@@ -68,15 +75,25 @@ TEST(StereoCameraSim, PublishesSynchronisedCalibratedPairsWithGroundTruth) {
         rec.truths.push_back(m);
       });
 
+  // The ground-truth subscription may connect after the image ones: wait for both, up to a minute.
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(60);
   while (ros::ok() && ros::WallTime::now() < deadline) {
     {
       std::lock_guard<std::mutex> lock(rec.mutex);
-      if (rec.pairs >= 10) break;
+      if (rec.pairs >= 10 && rec.truthsMatchingAPair() >= 8) break;
     }
     ros::WallDuration(0.05).sleep();
   }
-  std::lock_guard<std::mutex> lock(rec.mutex);
+  // No callback may run while the recorder is read or after the subscribers go out of scope.
+  spinner.stop();
+  truth.shutdown();
+  count_left.shutdown();
+  left_sub.unsubscribe();
+  right_sub.unsubscribe();
+  left_info_sub.unsubscribe();
+  right_info_sub.unsubscribe();
   ASSERT_GE(rec.pairs, 10) << "exactly-synchronised pairs received";
   // Every left image found its right image and both camera_infos with the identical stamp
   // (the first one or two may have been published before all four subscriptions connected).
@@ -101,24 +118,20 @@ TEST(StereoCameraSim, PublishesSynchronisedCalibratedPairsWithGroundTruth) {
   EXPECT_NEAR(model.baseline(), 0.12, 0.003);
 
   ASSERT_FALSE(rec.truths.empty());
-  int truths_matching_a_pair = 0;
   for (const auto& t : rec.truths) {
     EXPECT_EQ(static_cast<int>(t->objects.size()), expected_objects);
     EXPECT_EQ(t->header.frame_id, "stereo_left_optical_frame");
-    truths_matching_a_pair += rec.pair_stamps.count(t->header.stamp);
     for (const auto& o : t->objects) {
       EXPECT_GT(o.visible_pixels, 0U) << o.name;
       EXPECT_NEAR(o.range, std::sqrt(o.position.x * o.position.x + o.position.y * o.position.y +
                                      o.position.z * o.position.z), 1e-4);
     }
   }
-  EXPECT_GE(truths_matching_a_pair, 8) << "ground truth carries its pair's stamp";
+  EXPECT_GE(rec.truthsMatchingAPair(), 8) << "ground truth carries its pair's stamp";
 }
 
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "stereo_camera_sim_test");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
   return RUN_ALL_TESTS();
 }
