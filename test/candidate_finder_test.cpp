@@ -17,6 +17,17 @@ std::vector<cv::Point> drawn(const std::function<void(cv::Mat&)>& draw) {
   return contours.at(0);
 }
 
+/// Masks as colourMasks() gives them, from per-class masks already clean.
+ColourMasks masksOf(const std::vector<cv::Mat>& classes) {
+  ColourMasks m;
+  m.classes = classes;
+  m.any = cv::Mat::zeros(classes.at(0).size(), CV_8UC1);
+  for (const cv::Mat& c : classes) m.any |= c;
+  return m;
+}
+
+const ColourClass kRed{"red", 165, 8}, kOrange{"orange", 9, 16}, kYellow{"yellow", 17, 25}, kGreen{"green", 26, 45};
+
 }  // namespace
 
 TEST(CandidateFinder, ClassifiesOutlines) {
@@ -55,7 +66,7 @@ TEST(CandidateFinder, FindsColouredRegionsLargestFirstAndDropsSmallOnes) {
   cv::rectangle(green, cv::Rect(250, 100, 100, 60), 255, cv::FILLED);
   cv::circle(green, {50, 40}, 8, 255, cv::FILLED);  // ~200 px < min_area_px
   img.setTo(cv::Scalar(30, 30, 200), red);
-  const std::vector<Candidate> found = findCandidates(img, {red, green}, CandidateConfig{});
+  const std::vector<Candidate> found = findCandidates(img, masksOf({red, green}), {kRed, kGreen}, CandidateConfig{});
   ASSERT_EQ(found.size(), 2U);
   EXPECT_EQ(found[0].colour_index, 1);
   EXPECT_EQ(found[0].outline, "rectangle");
@@ -68,6 +79,58 @@ TEST(CandidateFinder, FindsColouredRegionsLargestFirstAndDropsSmallOnes) {
   EXPECT_EQ(found[1].mask.size(), found[1].roi.size());
 }
 
+TEST(CandidateFinder, HueNeighboursTouchThroughZero) {
+  EXPECT_TRUE(hueNeighbours(kRed, kOrange));
+  EXPECT_TRUE(hueNeighbours(kOrange, kRed));
+  EXPECT_TRUE(hueNeighbours(kYellow, kGreen));
+  EXPECT_FALSE(hueNeighbours(kRed, kGreen));
+  EXPECT_FALSE(hueNeighbours(kOrange, kGreen));
+  EXPECT_TRUE(hueNeighbours(ColourClass{"magenta", 150, 164}, kRed));
+  EXPECT_FALSE(hueNeighbours(ColourClass{"blue", 100, 130}, kRed));
+}
+
+TEST(CandidateFinder, ShadedBallAcrossTwoNeighbourClassesIsOneObjectOfItsMajorityColour) {
+  // A yellow ball whose lower third reads orange, and beside it a red and a green ball that overlap.
+  cv::Mat img(300, 500, CV_8UC3, cv::Scalar(120, 110, 60));
+  cv::Mat masks[4] = {cv::Mat::zeros(img.size(), CV_8UC1), cv::Mat::zeros(img.size(), CV_8UC1),
+                      cv::Mat::zeros(img.size(), CV_8UC1), cv::Mat::zeros(img.size(), CV_8UC1)};
+  cv::circle(masks[2], {100, 150}, 60, 255, cv::FILLED);
+  masks[2](cv::Rect(0, 190, 500, 110)).copyTo(masks[1](cv::Rect(0, 190, 500, 110)));
+  masks[2](cv::Rect(0, 190, 500, 110)).setTo(0);
+  cv::circle(masks[0], {300, 150}, 50, 255, cv::FILLED);
+  cv::circle(masks[3], {390, 150}, 50, 255, cv::FILLED);
+  masks[3].setTo(0, masks[0]);
+  const std::vector<Candidate> found =
+      findCandidates(img, masksOf({masks[0], masks[1], masks[2], masks[3]}), {kRed, kOrange, kYellow, kGreen}, CandidateConfig{});
+  ASSERT_EQ(found.size(), 3U);
+  EXPECT_EQ(found[0].colour_index, 2);  // yellow: the whole ball, orange third included
+  EXPECT_EQ(found[0].roi, cv::Rect(40, 90, 121, 121));
+  EXPECT_EQ(found[0].outline, "circle");
+  EXPECT_DOUBLE_EQ(found[0].colour_fraction, 1.0);
+  EXPECT_EQ(found[1].colour_index, 0);  // red, whole
+  EXPECT_EQ(found[1].roi.tl(), cv::Point(250, 100));
+  EXPECT_NEAR(found[1].roi.width, 101, 1);  // the last column where the balls touch may go either way
+  EXPECT_EQ(found[1].roi.height, 101);
+  EXPECT_EQ(found[2].colour_index, 3);  // green, the part the red ball leaves
+  EXPECT_GT(found[2].roi.x, 340);  // without the pixels the red ball covers
+  EXPECT_EQ(found[2].roi.x + found[2].roi.width, 441);
+}
+
+TEST(CandidateFinder, MinContrastDropsADarkObjectThatOnlyLooksRed) {
+  cv::Mat img(300, 400, CV_8UC3, cv::Scalar(120, 120, 120));  // water after white balance
+  cv::circle(img, {100, 150}, 40, cv::Scalar(40, 40, 180), cv::FILLED);  // red buoy, brighter than water
+  cv::circle(img, {300, 150}, 40, cv::Scalar(50, 50, 95), cv::FILLED);   // black weight, reddish, darker
+  cv::Mat red = cv::Mat::zeros(img.size(), CV_8UC1);
+  cv::circle(red, {100, 150}, 40, 255, cv::FILLED);
+  cv::circle(red, {300, 150}, 40, 255, cv::FILLED);
+  ColourClass strict = kRed;
+  strict.min_contrast = 1.1;
+  EXPECT_EQ(findCandidates(img, masksOf({red}), {kRed}, CandidateConfig{}).size(), 2U);
+  const std::vector<Candidate> found = findCandidates(img, masksOf({red}), {strict}, CandidateConfig{});
+  ASSERT_EQ(found.size(), 1U);
+  EXPECT_EQ(found[0].roi.x, 60);
+}
+
 TEST(CandidateFinder, GreyThresholdModeKeepsOnlyContoursThatCarryTheColour) {
   cv::Mat img(300, 400, CV_8UC3, cv::Scalar(200, 200, 200));  // bright water
   cv::circle(img, {100, 150}, 40, cv::Scalar(30, 30, 120), cv::FILLED);  // dark red object
@@ -76,7 +139,7 @@ TEST(CandidateFinder, GreyThresholdModeKeepsOnlyContoursThatCarryTheColour) {
   cv::circle(red, {100, 150}, 38, 255, cv::FILLED);
   CandidateConfig config;
   config.source = ContourSource::kGreyThreshold;
-  const std::vector<Candidate> found = findCandidates(img, {red}, config);
+  const std::vector<Candidate> found = findCandidates(img, masksOf({red}), {kRed}, config);
   ASSERT_EQ(found.size(), 1U);
   EXPECT_LT(std::abs(found[0].roi.x + found[0].roi.width / 2 - 100), 2);
   EXPECT_GT(found[0].colour_fraction, 0.85);
@@ -84,10 +147,16 @@ TEST(CandidateFinder, GreyThresholdModeKeepsOnlyContoursThatCarryTheColour) {
 
 TEST(CandidateFinder, GarbageInputThrowsAndNothingFoundIsEmpty) {
   const cv::Mat img(100, 100, CV_8UC3, cv::Scalar(0));
-  EXPECT_TRUE(findCandidates(img, {cv::Mat::zeros(100, 100, CV_8UC1)}, CandidateConfig{}).empty());
-  EXPECT_THROW(findCandidates(img, {cv::Mat::zeros(50, 100, CV_8UC1)}, CandidateConfig{}), std::invalid_argument);
-  EXPECT_THROW(findCandidates(cv::Mat(), {}, CandidateConfig{}), std::invalid_argument);
-  EXPECT_THROW(findCandidates(img, {cv::Mat::zeros(100, 100, CV_16UC1)}, CandidateConfig{}), std::invalid_argument);
+  EXPECT_TRUE(findCandidates(img, masksOf({cv::Mat::zeros(100, 100, CV_8UC1)}), {kRed}, CandidateConfig{}).empty());
+  EXPECT_THROW(findCandidates(img, masksOf({cv::Mat::zeros(50, 100, CV_8UC1)}), {kRed}, CandidateConfig{}),
+               std::invalid_argument);
+  EXPECT_THROW(findCandidates(cv::Mat(), ColourMasks{}, {}, CandidateConfig{}), std::invalid_argument);
+  ColourMasks wrong_type;
+  wrong_type.classes = {cv::Mat::zeros(100, 100, CV_16UC1)};
+  wrong_type.any = cv::Mat::zeros(100, 100, CV_8UC1);
+  EXPECT_THROW(findCandidates(img, wrong_type, {kRed}, CandidateConfig{}), std::invalid_argument);
+  EXPECT_THROW(findCandidates(img, masksOf({cv::Mat::zeros(100, 100, CV_8UC1)}), {kRed, kGreen}, CandidateConfig{}),
+               std::invalid_argument);
 }
 
 TEST(CandidateFinder, InvalidConfigListsEveryProblem) {

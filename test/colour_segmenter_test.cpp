@@ -19,6 +19,7 @@ cv::Scalar bgrOfHsv(int h, int s, int v) {
 ColourMaskConfig redAndGreen() {
   ColourMaskConfig c;
   c.grey_world = false;
+  c.blur_px = 0;
   c.classes = {{"red", 170, 10, 80, 255, 40, 255}, {"green", 45, 85, 80, 255, 40, 255}};
   return c;
 }
@@ -30,7 +31,7 @@ TEST(ColourSegmenter, RedHueWrapsThroughZero) {
   cv::circle(img, {50, 50}, 30, bgrOfHsv(175, 200, 200), cv::FILLED);   // red below 180
   cv::circle(img, {150, 50}, 30, bgrOfHsv(4, 200, 200), cv::FILLED);    // red above 0
   cv::circle(img, {250, 50}, 30, bgrOfHsv(60, 200, 200), cv::FILLED);   // green
-  const auto masks = colourMasks(img, redAndGreen());
+  const auto masks = colourMasks(img, redAndGreen()).classes;
   ASSERT_EQ(masks.size(), 2U);
   EXPECT_EQ(masks[0].at<std::uint8_t>(50, 50), 255);
   EXPECT_EQ(masks[0].at<std::uint8_t>(50, 150), 255);
@@ -40,12 +41,12 @@ TEST(ColourSegmenter, RedHueWrapsThroughZero) {
   EXPECT_NEAR(cv::countNonZero(masks[1]), M_PI * 30 * 30, 0.05 * M_PI * 30 * 30);
 }
 
-TEST(ColourSegmenter, OpeningRemovesSpecksAndClosingFillsHoles) {
+TEST(ColourSegmenter, OpeningRemovesSpecksAndClosingFillsHolesOfTheUnion) {
   cv::Mat img(200, 200, CV_8UC3, bgrOfHsv(100, 150, 150));
   cv::rectangle(img, {20, 20, 6, 6}, bgrOfHsv(60, 200, 200), cv::FILLED);    // 6x6 speck < 10x10
   cv::rectangle(img, {80, 80, 80, 80}, bgrOfHsv(60, 200, 200), cv::FILLED);  // object...
   cv::rectangle(img, {115, 115, 5, 5}, bgrOfHsv(100, 150, 150), cv::FILLED); // ...with a small hole
-  const cv::Mat green = colourMasks(img, redAndGreen())[1];
+  const cv::Mat green = colourMasks(img, redAndGreen()).any;
   EXPECT_EQ(cv::countNonZero(green(cv::Rect(0, 0, 60, 60))), 0);
   EXPECT_EQ(green.at<std::uint8_t>(117, 117), 255);
   EXPECT_EQ(cv::countNonZero(green), 80 * 80);
@@ -53,9 +54,49 @@ TEST(ColourSegmenter, OpeningRemovesSpecksAndClosingFillsHoles) {
   ColourMaskConfig no_morphology = redAndGreen();
   no_morphology.open_kernel_px = 0;
   no_morphology.close_kernel_px = 0;
-  const cv::Mat raw = colourMasks(img, no_morphology)[1];
+  const cv::Mat raw = colourMasks(img, no_morphology).any;
   EXPECT_EQ(cv::countNonZero(raw(cv::Rect(0, 0, 60, 60))), 36);
   EXPECT_EQ(raw.at<std::uint8_t>(117, 117), 0);
+}
+
+TEST(ColourSegmenter, AnObjectSpeckledBetweenTwoClassesStaysWhole) {
+  cv::Mat img(200, 200, CV_8UC3, bgrOfHsv(100, 150, 150));
+  cv::circle(img, {100, 100}, 60, bgrOfHsv(60, 200, 200), cv::FILLED);
+  const cv::Scalar other = bgrOfHsv(40, 200, 200);
+  const cv::Vec3b speck(other[0], other[1], other[2]);
+  cv::RNG rng(7);
+  for (int y = 100; y < 160; ++y) {  // lower half: every other pixel a hue the second class holds
+    for (int x = 40; x < 160; ++x) {
+      if (rng.uniform(0, 2) && cv::norm(cv::Point(x, y) - cv::Point(100, 100)) < 60) {
+        img.at<cv::Vec3b>(y, x) = speck;
+      }
+    }
+  }
+  ColourMaskConfig config = redAndGreen();
+  config.classes.push_back(ColourClass{"yellowgreen", 35, 45, 80, 255, 40, 255});
+  const ColourMasks masks = colourMasks(img, config);
+  EXPECT_NEAR(cv::countNonZero(masks.any), M_PI * 60 * 60, 0.03 * M_PI * 60 * 60);
+  EXPECT_GT(cv::countNonZero(masks.classes[2]), 0.1 * M_PI * 60 * 60);
+}
+
+TEST(ColourSegmenter, BlurKeepsADimNoisyObjectWhole) {
+  // A dim green disc barely above the value floor, with sensor noise: unblurred, noise breaks its mask up.
+  cv::Mat img(200, 200, CV_8UC3, bgrOfHsv(100, 150, 30));
+  cv::circle(img, {100, 100}, 50, bgrOfHsv(60, 200, 46), cv::FILLED);
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG(3).fill(noise, cv::RNG::NORMAL, 0, 6);
+  img.convertTo(img, CV_16SC3);
+  img += noise;
+  img.convertTo(img, CV_8UC3);
+  const double disc = M_PI * 50 * 50;
+  ColourMaskConfig config = redAndGreen();
+  config.open_kernel_px = config.close_kernel_px = 0;
+  const double unblurred = cv::countNonZero(colourMasks(img, config).classes[1]);
+  config.blur_px = 5;
+  const double blurred = cv::countNonZero(colourMasks(img, config).classes[1]);
+  EXPECT_LT(unblurred, 0.9 * disc);
+  EXPECT_GT(blurred, 0.95 * disc);
+  EXPECT_LT(blurred, 1.03 * disc);
 }
 
 TEST(ColourSegmenter, GreyWorldUndoesAColourCast) {
@@ -79,7 +120,9 @@ TEST(ColourSegmenter, InvalidConfigListsEveryProblem) {
   c.classes[0].hue_max = 200;
   c.classes[0].saturation_min = 300;
   c.open_kernel_px = -1;
-  // duplicate name, hue out of range, saturation out of range and min > max, kernel size
-  EXPECT_EQ(c.validate().size(), 5U);
+  c.blur_px = 52;
+  c.classes[1].min_contrast = -1;
+  // duplicate name, hue out of range, saturation out of range and min > max, kernel size, blur, contrast
+  EXPECT_EQ(c.validate().size(), 7U);
   EXPECT_FALSE(ColourMaskConfig{}.validate().empty()) << "no designated colour";
 }

@@ -10,7 +10,13 @@
 #include "underwater_stereo/detection/image_checks.h"
 
 namespace underwater_stereo {
+
 namespace {
+
+/// Classes holding less than this share of a region are ignored when grouping it.
+constexpr double kMinClassShare = 0.05;
+/// Window over which the pixels of a region holding two colour groups are given to one of them.
+constexpr int kGroupWindowPx = 11;
 
 /// Fills `candidate` from its contour and the colour mask it belongs to.
 bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Point> contour, int colour_index,
@@ -33,10 +39,95 @@ bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Po
   return true;
 }
 
+/// HSV value (max of B, G, R) of an object's pixels over that of a ring of water around its box.
+double contrastToSurround(const cv::Mat& bgr, const Candidate& c) {
+  const int margin = std::max(c.roi.width, c.roi.height) / 4 + 10;
+  const cv::Rect outer = (c.roi + cv::Size(2 * margin, 2 * margin) - cv::Point(margin, margin)) &
+                         cv::Rect(0, 0, bgr.cols, bgr.rows);
+  cv::Mat value;
+  cv::Mat channels[3];
+  cv::split(bgr(outer), channels);
+  value = cv::max(channels[0], cv::max(channels[1], channels[2]));
+  cv::Mat ring(outer.size(), CV_8UC1, cv::Scalar(255));
+  ring(c.roi - outer.tl()).setTo(0);
+  const double surround = cv::countNonZero(ring) > 0 ? cv::mean(value, ring)[0] : 0.0;
+  const double object = cv::mean(value(c.roi - outer.tl()), c.mask)[0];
+  return surround > 0 ? object / surround : 0.0;
+}
+
 std::vector<std::vector<cv::Point>> externalContours(const cv::Mat& binary) {
   std::vector<std::vector<cv::Point>> contours;
   cv::findContours(binary, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
   return contours;
+}
+
+/// One region of the union of all colour masks. Usually one object, whose shading may cross from one
+/// colour class into its hue neighbour (a yellow ball's shadowed side reads orange): it becomes one candidate
+/// labelled with its majority class. Classes present that are not hue neighbours of the majority (a red
+/// buoy in front of a green one) become candidates of their own; each pixel of the region goes to the group
+/// holding most raw pixels around it.
+std::vector<Candidate> splitByHueGroup(const cv::Mat& bgr, const ColourMasks& masks,
+                                       const std::vector<ColourClass>& classes, std::vector<cv::Point> contour,
+                                       const CandidateConfig& config) {
+  std::vector<Candidate> out;
+  const double area = cv::contourArea(contour);
+  if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) return out;
+  const cv::Rect roi = cv::boundingRect(contour);
+  cv::Mat filled = cv::Mat::zeros(roi.size(), CV_8UC1);
+  cv::drawContours(filled, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(),
+                   0, -roi.tl());
+  const std::size_t n = classes.size();
+  std::vector<int> counts(n);
+  for (std::size_t c = 0; c < n; ++c) counts[c] = cv::countNonZero(masks.classes[c](roi) & filled);
+  std::vector<std::size_t> order(n);
+  for (std::size_t c = 0; c < n; ++c) order[c] = c;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return counts[a] > counts[b]; });
+  const int total = std::max(1, cv::countNonZero(filled));
+  std::vector<int> group(n, -1);
+  std::vector<std::size_t> leaders;  // the majority class of each group
+  for (std::size_t c : order) {
+    if (counts[c] < kMinClassShare * total) break;
+    for (std::size_t m = 0; m < n && group[c] < 0; ++m) {
+      if (group[m] >= 0 && hueNeighbours(classes[m], classes[c])) group[c] = group[m];
+    }
+    if (group[c] < 0) {
+      group[c] = static_cast<int>(leaders.size());
+      leaders.push_back(c);
+    }
+  }
+  if (leaders.empty()) return out;
+  if (leaders.size() == 1) {
+    Candidate candidate;
+    if (describe(bgr, masks.any, std::move(contour), static_cast<int>(leaders[0]), config, candidate)) {
+      out.push_back(std::move(candidate));
+    }
+    return out;
+  }
+  // Local density of each group's raw pixels; the densest group takes the pixel.
+  std::vector<cv::Mat> density(leaders.size());
+  for (std::size_t g = 0; g < leaders.size(); ++g) {
+    cv::Mat raw = cv::Mat::zeros(roi.size(), CV_8UC1);
+    for (std::size_t c = 0; c < n; ++c) {
+      if (group[c] == static_cast<int>(g)) raw |= masks.classes[c](roi);
+    }
+    cv::boxFilter(raw, density[g], CV_32F, cv::Size(kGroupWindowPx, kGroupWindowPx));
+  }
+  const cv::Mat region = masks.any(roi) & filled;
+  for (std::size_t g = 0; g < leaders.size(); ++g) {
+    cv::Mat own = region.clone();
+    for (std::size_t other = 0; other < leaders.size(); ++other) {
+      if (other != g) own.setTo(0, density[other] > density[g]);
+    }
+    cv::Mat group_mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
+    own.copyTo(group_mask(roi));
+    for (auto& part : externalContours(group_mask)) {
+      Candidate candidate;
+      if (describe(bgr, group_mask, std::move(part), static_cast<int>(leaders[g]), config, candidate)) {
+        out.push_back(std::move(candidate));
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -80,22 +171,37 @@ std::string classifyOutline(const std::vector<cv::Point>& contour) {
   return "polygon";
 }
 
-std::vector<Candidate> findCandidates(const cv::Mat& bgr, const std::vector<cv::Mat>& masks,
-                                      const CandidateConfig& config) {
+bool hueNeighbours(const ColourClass& a, const ColourClass& b) {
+  // Circular gap between two hue ranges (each possibly wrapping through 0), in OpenCV hue units.
+  auto contains = [](const ColourClass& c, int h) {
+    return c.hue_min <= c.hue_max ? (h >= c.hue_min && h <= c.hue_max) : (h >= c.hue_min || h <= c.hue_max);
+  };
+  constexpr int kMaxGap = 2;
+  for (int d = 0; d <= kMaxGap; ++d) {
+    if (contains(b, (a.hue_max + d) % 180) || contains(b, (a.hue_min - d + 180) % 180)) return true;
+  }
+  return false;
+}
+
+std::vector<Candidate> findCandidates(const cv::Mat& bgr, const ColourMasks& masks,
+                                      const std::vector<ColourClass>& classes, const CandidateConfig& config) {
   requireBgr8(bgr, "findCandidates");
-  for (const cv::Mat& m : masks) {
+  if (masks.classes.size() != classes.size()) {
+    throw std::invalid_argument("findCandidates: " + std::to_string(masks.classes.size()) + " masks for " +
+                                std::to_string(classes.size()) + " colour classes");
+  }
+  std::vector<cv::Mat> all = masks.classes;
+  all.push_back(masks.any);
+  for (const cv::Mat& m : all) {
     if (m.size() != bgr.size() || m.type() != CV_8UC1) {
       throw std::invalid_argument("findCandidates: each colour mask must be CV_8UC1 of the image's size");
     }
   }
   std::vector<Candidate> found;
   if (config.source == ContourSource::kColourMask) {
-    for (std::size_t c = 0; c < masks.size(); ++c) {
-      for (auto& contour : externalContours(masks[c])) {
-        Candidate candidate;
-        if (describe(bgr, masks[c], std::move(contour), static_cast<int>(c), config, candidate)) {
-          found.push_back(std::move(candidate));
-        }
+    for (auto& contour : externalContours(masks.any)) {
+      for (Candidate& c : splitByHueGroup(bgr, masks, classes, std::move(contour), config)) {
+        found.push_back(std::move(c));
       }
     }
   } else {
@@ -108,9 +214,9 @@ std::vector<Candidate> findCandidates(const cv::Mat& bgr, const std::vector<cv::
     for (auto& contour : externalContours(binary)) {
       // Keep the contour for the colour it carries most.
       Candidate best;
-      for (std::size_t c = 0; c < masks.size(); ++c) {
+      for (std::size_t c = 0; c < classes.size(); ++c) {
         Candidate candidate;
-        if (describe(bgr, masks[c], contour, static_cast<int>(c), config, candidate) &&
+        if (describe(bgr, masks.classes[c], contour, static_cast<int>(c), config, candidate) &&
             candidate.colour_fraction > best.colour_fraction) {
           best = std::move(candidate);
         }
@@ -118,6 +224,12 @@ std::vector<Candidate> findCandidates(const cv::Mat& bgr, const std::vector<cv::
       if (best.colour_index >= 0) found.push_back(std::move(best));
     }
   }
+  found.erase(std::remove_if(found.begin(), found.end(),
+                             [&](const Candidate& c) {
+                               const double needed = classes[c.colour_index].min_contrast;
+                               return needed > 0 && contrastToSurround(bgr, c) < needed;
+                             }),
+              found.end());
   std::sort(found.begin(), found.end(), [](const Candidate& a, const Candidate& b) { return a.area_px > b.area_px; });
   if (found.size() > static_cast<std::size_t>(config.max_candidates)) found.resize(config.max_candidates);
   return found;

@@ -34,7 +34,9 @@ std::vector<std::string> ColourMaskConfig::validate() const {
     checkRange(p, n + ".value", c.value_min, c.value_max, 255);
     if (c.saturation_min > c.saturation_max) p.push_back(n + ".saturation: min > max");
     if (c.value_min > c.value_max) p.push_back(n + ".value: min > max");
+    if (!(c.min_contrast >= 0 && c.min_contrast <= 10)) p.push_back(n + ".min_contrast must be in [0, 10]");
   }
+  if (blur_px < 0 || blur_px > 51) p.push_back("mask.blur_px must be in [0, 51]");
   if (open_kernel_px < 0 || open_kernel_px > 101) p.push_back("mask.open_kernel_px must be in [0, 101]");
   if (close_kernel_px < 0 || close_kernel_px > 101) p.push_back("mask.close_kernel_px must be in [0, 101]");
   return p;
@@ -52,16 +54,17 @@ cv::Mat greyWorld(const cv::Mat& bgr) {
   return out;
 }
 
-std::vector<cv::Mat> colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
+ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
   requireBgr8(bgr, "colourMasks");
   cv::Mat hsv;
-  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
-  auto kernel = [](int size) {
-    return size > 1 ? cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)) : cv::Mat();
-  };
-  const cv::Mat open_kernel = kernel(config.open_kernel_px);
-  const cv::Mat close_kernel = kernel(config.close_kernel_px);
-  std::vector<cv::Mat> masks;
+  if (config.blur_px > 1) {
+    cv::blur(bgr, hsv, cv::Size(config.blur_px, config.blur_px));
+    cv::cvtColor(hsv, hsv, cv::COLOR_BGR2HSV);
+  } else {
+    cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  }
+  ColourMasks out;
+  out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
   for (const ColourClass& c : config.classes) {
     cv::Mat mask;
     const cv::Scalar lo_sv(0, c.saturation_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
@@ -73,11 +76,15 @@ std::vector<cv::Mat> colourMasks(const cv::Mat& bgr, const ColourMaskConfig& con
       cv::inRange(hsv, cv::Scalar(0, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
       mask |= upper;
     }
-    if (!open_kernel.empty()) cv::morphologyEx(mask, mask, cv::MORPH_OPEN, open_kernel);
-    if (!close_kernel.empty()) cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, close_kernel);
-    masks.push_back(mask);
+    out.any |= mask;
+    out.classes.push_back(mask);
   }
-  return masks;
+  auto kernel = [](int size) {
+    return size > 1 ? cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)) : cv::Mat();
+  };
+  if (config.open_kernel_px > 1) cv::morphologyEx(out.any, out.any, cv::MORPH_OPEN, kernel(config.open_kernel_px));
+  if (config.close_kernel_px > 1) cv::morphologyEx(out.any, out.any, cv::MORPH_CLOSE, kernel(config.close_kernel_px));
+  return out;
 }
 
 }  // namespace underwater_stereo

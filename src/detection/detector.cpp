@@ -45,16 +45,21 @@ struct FrontEnd {
   std::vector<Candidate> candidates;
 };
 
+/// The image the colours are searched in: contrast-enhanced when the quality check says so, white-balanced.
+cv::Mat searchedImage(const cv::Mat& bgr, const QualityReport& quality, const DetectorConfig& config) {
+  cv::Mat out = quality.enhanced ? enhanceContrast(bgr, config.quality) : bgr;
+  return config.colours.grey_world ? greyWorld(out) : out;
+}
+
 FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, StageTimings& t, Stopwatch& watch) {
   FrontEnd out;
   out.quality = assessQuality(bgr, config.quality);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
-  out.searched = out.quality.enhanced ? enhanceContrast(bgr, config.quality) : bgr;
-  if (config.colours.grey_world) out.searched = greyWorld(out.searched);
-  const std::vector<cv::Mat> masks = colourMasks(out.searched, config.colours);
+  out.searched = searchedImage(bgr, out.quality, config);
+  const ColourMasks masks = colourMasks(out.searched, config.colours);
   t.colour_ms = watch.lapMs();
-  out.candidates = findCandidates(out.searched, masks, config.candidates);
+  out.candidates = findCandidates(out.searched, masks, config.colours.classes, config.candidates);
   t.contours_ms = watch.lapMs();
   return out;
 }
@@ -68,6 +73,19 @@ Detection describe2d(const Candidate& c, const cv::Mat& raw_bgr, const DetectorC
   d.measured_bgr = cv::mean(raw_bgr(c.roi), c.mask);
   d.confidence = c.colour_fraction;
   return d;
+}
+
+/// Moves a fitted model along its viewing ray to the depth its silhouette's disparity gives (the angular
+/// size stays: centre and size scale together). Stereo surfaces are smoothed towards the object's rim, the
+/// silhouette is not; a sphere's silhouette belongs to its centre, a cylinder's to its axis.
+void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration) {
+  if (!std::isfinite(disparity) || disparity <= 0 || fit.shape == "unknown") return;
+  const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(calibration.left.R.val);
+  const double z_rectified = (r * fit.centre).z();
+  if (z_rectified <= 0) return;
+  const double scale = calibration.focalPx() * calibration.baselineM() / disparity / z_rectified;
+  fit.centre *= scale;
+  fit.size *= scale;
 }
 
 }  // namespace
@@ -118,16 +136,19 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   cv::Mat left_grey, right_grey;
   cv::cvtColor(left_bgr, left_grey, cv::COLOR_BGR2GRAY);
   cv::cvtColor(right_bgr, right_grey, cv::COLOR_BGR2GRAY);
+  const cv::Mat right_colour = colourMasks(searchedImage(right_bgr, front.quality, config_), config_.colours).any;
+  result.timings.colour_ms += watch.lapMs();
   for (const Candidate& c : front.candidates) {
     Stopwatch stage;
-    const RoiPoints roi_points = matcher_->match(left_grey, right_grey, c.roi, c.mask);
+    const RoiPoints roi_points = matcher_->match(left_grey, right_grey, c.roi, c.mask, right_colour);
     result.timings.stereo_ms += stage.lapMs();
     const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
     result.timings.cluster_ms += stage.lapMs();
     if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) continue;
     Detection d = describe2d(c, left_bgr, config_);
     for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
-    const ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), c.outline, config_.shape);
+    ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), c.outline, config_.shape);
+    placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
     result.timings.fit_ms += stage.lapMs();
     if (!fit.centre.allFinite() || !fit.size.allFinite()) continue;  // never report NaN
     d.shape = fit.shape;

@@ -11,7 +11,7 @@ namespace underwater_stereo {
 namespace {
 
 void parseColour(YamlFields& f, const YAML::Node& node, const std::string& path, ColourClass& c) {
-  f.onlyKeys(node, path, {"name", "hue", "saturation", "value"});
+  f.onlyKeys(node, path, {"name", "hue", "saturation", "value", "min_contrast"});
   if (!node.IsMap()) return;
   f.required(node, "name", path, c.name);
   std::vector<double> hue{double(c.hue_min), double(c.hue_max)}, sat{double(c.saturation_min), double(c.saturation_max)},
@@ -20,6 +20,7 @@ void parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
   f.optionalVector(node, "hue", path, hue, 2);
   f.optionalVector(node, "saturation", path, sat, 2);
   f.optionalVector(node, "value", path, val, 2);
+  f.optional(node, "min_contrast", path, c.min_contrast);
   c.hue_min = static_cast<int>(hue[0]);
   c.hue_max = static_cast<int>(hue[1]);
   c.saturation_min = static_cast<int>(sat[0]);
@@ -71,7 +72,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
   }
   f.optional(root, "grey_world", "", c.colours.grey_world);
   if (const YAML::Node m = root["mask"]) {
-    f.onlyKeys(m, "mask.", {"open_kernel_px", "close_kernel_px"});
+    f.onlyKeys(m, "mask.", {"blur_px", "open_kernel_px", "close_kernel_px"});
+    f.optional(m, "blur_px", "mask.", c.colours.blur_px);
     f.optional(m, "open_kernel_px", "mask.", c.colours.open_kernel_px);
     f.optional(m, "close_kernel_px", "mask.", c.colours.close_kernel_px);
   }

@@ -12,6 +12,11 @@
 namespace underwater_stereo {
 namespace {
 
+/// Column profiles of the left and right silhouettes must overlap this much (intersection over union).
+constexpr double kMinSilhouetteOverlap = 0.8;
+/// Columns beyond the aligned left silhouette that still count for the right one's centroid.
+constexpr int kSilhouetteSlackPx = 3;
+
 cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
   return cv::Matx33d(c.P(0, 0), c.P(0, 1), c.P(0, 2), c.P(1, 0), c.P(1, 1), c.P(1, 2), 0, 0, 1);
 }
@@ -19,6 +24,58 @@ cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
 void buildMaps(const CameraCalibration& c, cv::Mat& map_x, cv::Mat& map_y) {
   cv::initUndistortRectifyMap(cv::Mat(c.K), cv::Mat(c.D), cv::Mat(c.R), cv::Mat(rectifiedIntrinsics(c)),
                               cv::Size(c.width, c.height), CV_32FC1, map_x, map_y);
+}
+
+/// Column sums of a mask band (0-255 values, soft edges from bilinear rectification) over the rows `rows`.
+std::vector<double> columnProfile(const cv::Mat& band, const cv::Mat& rows) {
+  std::vector<double> profile(band.cols, 0.0);
+  for (int v = 0; v < band.rows; ++v) {
+    if (!rows.at<std::uint8_t>(v)) continue;
+    const auto* m = band.ptr<std::uint8_t>(v);
+    for (int u = 0; u < band.cols; ++u) profile[u] += m[u];
+  }
+  return profile;
+}
+
+/// Shift [px] that best aligns the right profile with the left one (right = left shifted left by d) among
+/// [d_lo, d_hi], refined to sub-pixel by the profiles' centroids over the aligned window. NaN if none.
+double silhouetteShift(const std::vector<double>& left, const std::vector<double>& right, int d_lo, int d_hi) {
+  int u0 = -1, u1 = -1;
+  for (int u = 0; u < static_cast<int>(left.size()); ++u) {
+    if (left[u] > 0) {
+      if (u0 < 0) u0 = u;
+      u1 = u;
+    }
+  }
+  if (u0 < 0) return std::numeric_limits<double>::quiet_NaN();
+  double best = -1.0;
+  int best_d = 0;
+  for (int d = d_lo; d <= d_hi; ++d) {
+    if (u0 - d < 0) break;
+    double overlap = 0, norm = 0;
+    for (int u = u0; u <= u1; ++u) {
+      overlap += std::min(left[u], right[u - d]);
+      norm += std::max(left[u], right[u - d]);
+    }
+    const double score = norm > 0 ? overlap / norm : 0;
+    if (score > best) {
+      best = score;
+      best_d = d;
+    }
+  }
+  if (best < kMinSilhouetteOverlap) return std::numeric_limits<double>::quiet_NaN();
+  double left_mass = 0, left_moment = 0, right_mass = 0, right_moment = 0;
+  for (int u = u0; u <= u1; ++u) {
+    left_mass += left[u];
+    left_moment += left[u] * u;
+  }
+  const int lo = std::max(0, u0 - best_d - kSilhouetteSlackPx), hi = std::min<int>(right.size() - 1, u1 - best_d + kSilhouetteSlackPx);
+  for (int u = lo; u <= hi; ++u) {
+    right_mass += right[u];
+    right_moment += right[u] * u;
+  }
+  if (left_mass <= 0 || right_mass <= 0) return std::numeric_limits<double>::quiet_NaN();
+  return left_moment / left_mass - right_moment / right_mass;
 }
 
 }  // namespace
@@ -62,7 +119,7 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
 }
 
 RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
-                                  const cv::Mat& mask) const {
+                                  const cv::Mat& mask, const cv::Mat& right_colour) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
   if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != size || right.size() != size) {
     throw std::invalid_argument("RoiStereoMatcher::match: left and right must be CV_8UC1 of the calibrated size " +
@@ -70,6 +127,9 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   }
   if (roi.empty() || (roi & cv::Rect(cv::Point(), size)) != roi || mask.type() != CV_8UC1 || mask.size() != roi.size()) {
     throw std::invalid_argument("RoiStereoMatcher::match: roi must lie in the image and mask be CV_8UC1 of its size");
+  }
+  if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || right_colour.size() != size)) {
+    throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 of the calibrated size");
   }
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
@@ -100,6 +160,7 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   }
   out.mask_pixels = cv::countNonZero(mask_band);
   if (out.mask_pixels == 0) return out;
+  if (!right_colour.empty()) out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, band);
 
   const int bs = config_.block_size;
   auto sgbm = cv::StereoSGBM::create(min_disparity, num_disparities, bs, 8 * bs * bs, 32 * bs * bs, 1,
@@ -107,6 +168,10 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   cv::Mat disparity16;
   sgbm->compute(left_band, right_band, disparity16);
 
+  if (std::isfinite(out.silhouette_disparity) &&
+      (out.silhouette_disparity < min_disparity || out.silhouette_disparity > min_disparity + num_disparities)) {
+    out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
+  }
   const int step = std::max(1, static_cast<int>(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
   const short invalid_below = static_cast<short>(min_disparity * 16);
@@ -126,6 +191,21 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
     }
   }
   return out;
+}
+
+double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
+                                             const cv::Rect& band) const {
+  // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.
+  cv::Mat left_band, right_band;
+  cv::remap(mask, left_band, left_map_x_(band) - roi.x, left_map_y_(band) - roi.y, cv::INTER_LINEAR,
+            cv::BORDER_CONSTANT, 0);
+  cv::remap(right_colour, right_band, right_map_x_(band), right_map_y_(band), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  cv::Mat rows;
+  cv::reduce(left_band, rows, 1, cv::REDUCE_MAX);
+  const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
+  const int d_lo = static_cast<int>(std::floor(f * baseline / config_.max_depth_m));
+  const int d_hi = static_cast<int>(std::ceil(f * baseline / config_.min_depth_m));
+  return silhouetteShift(columnProfile(left_band, rows), columnProfile(right_band, rows), d_lo, d_hi);
 }
 
 }  // namespace underwater_stereo

@@ -48,9 +48,16 @@ struct Candidate {
 /// @throw std::invalid_argument with fewer than 3 points.
 std::string classifyOutline(const std::vector<cv::Point>& contour);
 
-/// Candidates in `bgr` (the searched image) given its colour masks (one per class, from colourMasks()),
-/// largest first. @throw std::invalid_argument when bgr is not CV_8UC3 or masks do not match it.
-std::vector<Candidate> findCandidates(const cv::Mat& bgr, const std::vector<cv::Mat>& masks,
-                                      const CandidateConfig& config);
+/// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too).
+bool hueNeighbours(const ColourClass& a, const ColourClass& b);
+
+/// Candidates in `bgr` (the searched image) given its colour masks (from colourMasks() with `classes`),
+/// largest first. In kColourMask mode a region of masks.any is one object,
+/// labelled with the class holding most of its pixels, when its classes are hue neighbours (shading moves a
+/// yellow ball's lower half into orange); classes that are not neighbours of it become candidates of their own.
+/// In kGreyThreshold mode the colour share of a contour is counted in the raw class masks.
+/// @throw std::invalid_argument when bgr is not CV_8UC3, masks do not match it or not one mask per class.
+std::vector<Candidate> findCandidates(const cv::Mat& bgr, const ColourMasks& masks,
+                                      const std::vector<ColourClass>& classes, const CandidateConfig& config);
 
 }  // namespace underwater_stereo

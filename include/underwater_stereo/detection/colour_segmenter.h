@@ -19,6 +19,11 @@ struct ColourClass {
   int saturation_max = 255;
   int value_min = 40;
   int value_max = 255;
+  /// Brightness (HSV V) of an object of this colour over that of the water around it, at least; 0 = off.
+  /// After white balance any dark object in the water turns reddish (the veiling light in front of it keeps
+  /// more red than the far water does), while a red object is brighter than the water: 1.1 for red tells them
+  /// apart.
+  double min_contrast = 0.0;
 };
 
 struct ColourMaskConfig {
@@ -26,6 +31,7 @@ struct ColourMaskConfig {
   /// Grey-world white balance before HSV: scales B, G, R so their means are equal, undoing the water's
   /// colour cast (red is lost fastest). Off reproduces the paper.
   bool grey_world = true;
+  int blur_px = 5;                   ///< box blur before HSV against sensor noise in dark frames; 0 or 1 = off
   int open_kernel_px = 10;           ///< opening removes specks smaller than this (paper: 10x10); 0 or 1 = off
   int close_kernel_px = 10;          ///< closing fills holes smaller than this (paper: 10x10); 0 or 1 = off
 
@@ -35,9 +41,17 @@ struct ColourMaskConfig {
 /// Grey-world white balance of a BGR8 image. @throw std::invalid_argument when not CV_8UC3 or empty.
 cv::Mat greyWorld(const cv::Mat& bgr);
 
-/// One binary mask (CV_8UC1, 0/255) per colour class, in class order, after opening and closing.
-/// `bgr` is the frame as searched (after any white balance). @throw std::invalid_argument when `bgr`
-/// is empty or not CV_8UC3.
-std::vector<cv::Mat> colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config);
+/// Where the designated colours are. Binary masks, CV_8UC1 0/255, of the image's size.
+struct ColourMasks {
+  std::vector<cv::Mat> classes;  ///< one per colour class, in class order: HSV inRange only
+  /// The union of all classes after opening then closing: where objects of any designated colour are. The
+  /// union is cleaned, not each class, so an object whose shading speckles it between two neighbouring
+  /// classes (a yellow ball's shadowed side half orange) stays whole.
+  cv::Mat any;
+};
+
+/// The masks of `bgr`, the frame as searched (after any white balance).
+/// @throw std::invalid_argument when `bgr` is empty or not CV_8UC3.
+ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config);
 
 }  // namespace underwater_stereo

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct RoiPoints {
   std::vector<Eigen::Vector3f> points;  ///< [m]
   int mask_pixels = 0;                  ///< object pixels in the rectified band (after erosion)
   int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace
+  /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
+  /// and right colour masks (sub-pixel, from the masks' column profiles). A sphere's outline is the tangent
+  /// cone around its centre and a cylinder's the tangent lines of its axis, so this is the depth of the centre
+  /// or axis, free of the smoothing that flattens stereo surfaces. NaN when no right mask was given or the
+  /// silhouette was not found in it.
+  double silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
 };
 
 class RoiStereoMatcher {
@@ -41,9 +48,12 @@ class RoiStereoMatcher {
   RoiStereoMatcher(const StereoCalibration& calibration, const StereoMatchConfig& config);
 
   /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
-  /// `left`/`right` are raw (distorted) CV_8UC1 frames of the calibrated size.
+  /// `left`/`right` are raw (distorted) CV_8UC1 frames of the calibrated size. `right_colour` (optional:
+  /// empty to skip) is the raw right frame's mask of the designated colours, full size, for the silhouette
+  /// disparity.
   /// @throw std::invalid_argument on wrong types or sizes, or an roi outside the image.
-  RoiPoints match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask) const;
+  RoiPoints match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask,
+                  const cv::Mat& right_colour = cv::Mat()) const;
 
   /// Rectified-frame bounding box of a raw-image rectangle (left camera).
   cv::Rect rectifiedBox(const cv::Rect& raw_roi) const;
@@ -51,6 +61,9 @@ class RoiStereoMatcher {
   const StereoCalibration& calibration() const { return calibration_; }
 
  private:
+  double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
+                             const cv::Rect& band) const;
+
   StereoCalibration calibration_;
   StereoMatchConfig config_;
   cv::Mat left_map_x_, left_map_y_, right_map_x_, right_map_y_;  ///< CV_32FC1, rectified -> raw pixel
