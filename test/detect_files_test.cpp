@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// detect_files end to end: rendered PNGs and camera_info YAML in, one JSON line per detection out.
+#include <camera_calibration_parsers/parse.h>
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "underwater_stereo/ros_glue/calibration_conversions.h"
+#include "underwater_stereo/sim/renderer.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+struct ToolRun {
+  int status = -1;
+  std::vector<std::string> lines;
+};
+
+ToolRun run(const std::string& args) {
+  ToolRun r;
+  FILE* pipe = ::popen((std::string(UWS_DETECT_FILES) + " " + args + " 2>/dev/null").c_str(), "r");
+  char buf[8192];
+  while (pipe && std::fgets(buf, sizeof buf, pipe)) r.lines.emplace_back(buf);
+  r.status = pipe ? WEXITSTATUS(::pclose(pipe)) : -1;
+  return r;
+}
+
+double field(const std::string& line, const std::string& name) {
+  std::smatch m;
+  if (!std::regex_search(line, m, std::regex("\"" + name + "\": ([-0-9.e]+)"))) return NAN;
+  return std::stod(m[1]);
+}
+
+class DetectFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("detect_files_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_);
+    sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+    scene.sensor.encoding = "bgr8";
+    const sim::Renderer renderer(scene);
+    pair_ = renderer.render(0.0, 0);
+    cv::imwrite(path("left.png"), pair_.left);
+    cv::imwrite(path("right.png"), pair_.right);
+    camera_calibration_parsers::writeCalibration(path("left.yaml"), "left",
+                                                 ros_glue::toCameraInfo(renderer.calibration().left));
+    camera_calibration_parsers::writeCalibration(path("right.yaml"), "right",
+                                                 ros_glue::toCameraInfo(renderer.calibration().right));
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string stereoArgs() const {
+    return "--left " + path("left.png") + " --right " + path("right.png") + " --left-info " + path("left.yaml") +
+           " --right-info " + path("right.yaml") + " --config " UWS_SOURCE_DIR "/config/detector.yaml";
+  }
+
+  std::filesystem::path dir_;
+  sim::RenderedPair pair_;
+};
+
+}  // namespace
+
+TEST_F(DetectFiles, StereoPairGivesOneJsonLinePerObjectWithRangeAndPosition) {
+  const ToolRun r = run(stereoArgs());
+  ASSERT_EQ(r.status, 0);
+  ASSERT_EQ(r.lines.size(), pair_.ground_truth.size());
+  for (const auto& gt : pair_.ground_truth) {
+    const auto line = std::find_if(r.lines.begin(), r.lines.end(), [&](const std::string& l) {
+      return l.find("\"colour\": \"" + gt.colour + "\"") != std::string::npos;
+    });
+    ASSERT_NE(line, r.lines.end()) << gt.colour;
+    EXPECT_NEAR(field(*line, "range"), gt.range_m, 0.03 * gt.range_m) << *line;
+    EXPECT_NE(line->find("\"shape\": \"sphere\""), std::string::npos) << *line;
+    EXPECT_NE(line->find("\"position\": ["), std::string::npos) << *line;
+    EXPECT_NE(line->find("\"quality\": {\"status\": \"OK\""), std::string::npos) << *line;
+  }
+}
+
+TEST_F(DetectFiles, ImageModeAndListFileGiveTwoDimensionalDetections) {
+  std::ofstream(path("list.txt")) << "# one image, then the pair\n" << path("left.png") << "\n"
+                                  << path("left.png") << " " << path("right.png") << "\n";
+  const ToolRun r = run("--list " + path("list.txt") + " --left-info " + path("left.yaml") + " --right-info " +
+                    path("right.yaml") + " --config " UWS_SOURCE_DIR "/config/detector.yaml");
+  ASSERT_EQ(r.status, 0);
+  ASSERT_EQ(r.lines.size(), 2 * pair_.ground_truth.size());
+  int flat = 0;
+  for (const auto& l : r.lines) flat += l.find("\"range\"") == std::string::npos;
+  EXPECT_EQ(flat, static_cast<int>(pair_.ground_truth.size()));
+  const ToolRun image = run("--image '" + path("left*.png") + "'");  // a quoted glob
+  ASSERT_EQ(image.status, 0);
+  EXPECT_EQ(image.lines.size(), pair_.ground_truth.size());
+  EXPECT_NE(image.lines[0].find("\"roi\": ["), std::string::npos);
+}
+
+TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
+  EXPECT_EQ(run("").status, 2);
+  EXPECT_EQ(run("--image").status, 2);
+  EXPECT_EQ(run("--left " + path("left.png")).status, 2) << "no right image";
+  EXPECT_EQ(run(stereoArgs() + " --config /nonexistent.yaml").status, 2);
+  std::ofstream(path("bad.yaml")) << "colours: [{name: red, hue: [170]}]\n";
+  EXPECT_EQ(run(stereoArgs() + " --config " + path("bad.yaml")).status, 2);
+  std::ofstream(path("garbage.yaml")) << "not: a camera\n";
+  EXPECT_EQ(run("--left " + path("left.png") + " --right " + path("right.png") + " --left-info " +
+                path("garbage.yaml") + " --right-info " + path("right.yaml")).status,
+            2);
+  // An unreadable frame and a size mismatch are skipped (exit 1); the good frame is still processed.
+  cv::imwrite(path("small.png"), cv::Mat(100, 100, CV_8UC3, cv::Scalar(0, 0, 0)));
+  std::ofstream(path("pairs.txt")) << path("missing.png") << " " << path("right.png") << "\n"
+                                   << path("small.png") << " " << path("right.png") << "\n"
+                                   << path("left.png") << " " << path("right.png") << "\n";
+  const ToolRun r = run("--list " + path("pairs.txt") + " --left-info " + path("left.yaml") + " --right-info " +
+                    path("right.yaml"));
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.lines.size(), pair_.ground_truth.size());
+}
