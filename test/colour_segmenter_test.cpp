@@ -99,6 +99,25 @@ TEST(ColourSegmenter, BlurKeepsADimNoisyObjectWhole) {
   EXPECT_LT(blurred, 1.03 * disc);
 }
 
+TEST(ColourSegmenter, SaturationFloorDropsInADullFrameOnly) {
+  ColourMaskConfig config = redAndGreen();
+  config.classes[1].saturation_min = 90;
+  config.saturation_floor_factor = 4.0;
+  config.saturation_floor_min = 30;
+  // Murky water after white balance: nearly grey (S 8); a washed-out green object (S 45).
+  cv::Mat dull(200, 200, CV_8UC3, bgrOfHsv(100, 8, 150));
+  cv::circle(dull, {100, 100}, 40, bgrOfHsv(60, 45, 150), cv::FILLED);
+  const ColourMasks found = colourMasks(dull, config);
+  EXPECT_NEAR(found.saturation_median, 8, 2);
+  EXPECT_NEAR(cv::countNonZero(found.classes[1]), M_PI * 40 * 40, 0.05 * M_PI * 40 * 40);
+  // The same object in clear, colourful water (S 60 everywhere): the class's own floor holds.
+  cv::Mat vivid(200, 200, CV_8UC3, bgrOfHsv(100, 60, 150));
+  cv::circle(vivid, {100, 100}, 40, bgrOfHsv(60, 45, 150), cv::FILLED);
+  EXPECT_EQ(cv::countNonZero(colourMasks(vivid, config).classes[1]), 0);
+  config.saturation_floor_factor = 0;  // off
+  EXPECT_EQ(cv::countNonZero(colourMasks(dull, config).classes[1]), 0);
+}
+
 TEST(ColourSegmenter, GreyWorldUndoesAColourCast) {
   cv::Mat img(100, 100, CV_8UC3, cv::Scalar(160, 140, 40));  // cyan water cast
   img(cv::Rect(0, 0, 50, 100)).setTo(cv::Scalar(120, 100, 30));
@@ -122,7 +141,10 @@ TEST(ColourSegmenter, InvalidConfigListsEveryProblem) {
   c.open_kernel_px = -1;
   c.blur_px = 52;
   c.classes[1].min_contrast = -1;
-  // duplicate name, hue out of range, saturation out of range and min > max, kernel size, blur, contrast
-  EXPECT_EQ(c.validate().size(), 7U);
+  c.saturation_floor_factor = -1;
+  c.saturation_floor_min = 256;
+  // duplicate name, hue out of range, saturation out of range and min > max, kernel size, blur, contrast,
+  // saturation floor factor and minimum
+  EXPECT_EQ(c.validate().size(), 9U);
   EXPECT_FALSE(ColourMaskConfig{}.validate().empty()) << "no designated colour";
 }

@@ -3,6 +3,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/image_checks.h"
@@ -15,6 +17,23 @@ void checkRange(std::vector<std::string>& p, const std::string& what, int lo, in
     p.push_back(what + ": [" + std::to_string(lo) + ", " + std::to_string(hi) + "] must lie in [0, " +
                 std::to_string(max) + "]");
   }
+}
+
+/// Median of one channel of an 8-bit 3-channel image.
+int channelMedian(const cv::Mat& image, int channel) {
+  const int channels[] = {channel};
+  const int bins[] = {256};
+  const float range[] = {0, 256};
+  const float* ranges[] = {range};
+  cv::Mat hist;
+  cv::calcHist(&image, 1, channels, cv::Mat(), hist, 1, bins, ranges);
+  const double limit = 0.5 * static_cast<double>(image.total());
+  double count = 0;
+  for (int v = 0; v < 256; ++v) {
+    count += hist.at<float>(v);
+    if (count >= limit) return v;
+  }
+  return 255;
 }
 
 }  // namespace
@@ -36,6 +55,10 @@ std::vector<std::string> ColourMaskConfig::validate() const {
     if (c.value_min > c.value_max) p.push_back(n + ".value: min > max");
     if (!(c.min_contrast >= 0 && c.min_contrast <= 10)) p.push_back(n + ".min_contrast must be in [0, 10]");
   }
+  if (!(saturation_floor_factor >= 0 && saturation_floor_factor <= 10)) {
+    p.push_back("mask.saturation_floor_factor must be in [0, 10]");
+  }
+  if (saturation_floor_min < 0 || saturation_floor_min > 255) p.push_back("mask.saturation_floor_min must be in [0, 255]");
   if (blur_px < 0 || blur_px > 51) p.push_back("mask.blur_px must be in [0, 51]");
   if (open_kernel_px < 0 || open_kernel_px > 101) p.push_back("mask.open_kernel_px must be in [0, 101]");
   if (close_kernel_px < 0 || close_kernel_px > 101) p.push_back("mask.close_kernel_px must be in [0, 101]");
@@ -64,10 +87,16 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
     cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   }
   ColourMasks out;
+  out.saturation_median = channelMedian(hsv, 1);
   out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
   for (const ColourClass& c : config.classes) {
     cv::Mat mask;
-    const cv::Scalar lo_sv(0, c.saturation_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
+    int s_min = c.saturation_min;
+    if (config.saturation_floor_factor > 0) {
+      const int adaptive = static_cast<int>(std::lround(config.saturation_floor_factor * out.saturation_median));
+      s_min = std::min(s_min, std::max(config.saturation_floor_min, adaptive));
+    }
+    const cv::Scalar lo_sv(0, s_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
     if (c.hue_min <= c.hue_max) {
       cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
     } else {  // wraps through 0 (red)

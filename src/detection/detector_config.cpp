@@ -72,7 +72,10 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
   }
   f.optional(root, "grey_world", "", c.colours.grey_world);
   if (const YAML::Node m = root["mask"]) {
-    f.onlyKeys(m, "mask.", {"blur_px", "open_kernel_px", "close_kernel_px"});
+    f.onlyKeys(m, "mask.", {"saturation_floor_factor", "saturation_floor_min", "blur_px", "open_kernel_px",
+                            "close_kernel_px"});
+    f.optional(m, "saturation_floor_factor", "mask.", c.colours.saturation_floor_factor);
+    f.optional(m, "saturation_floor_min", "mask.", c.colours.saturation_floor_min);
     f.optional(m, "blur_px", "mask.", c.colours.blur_px);
     f.optional(m, "open_kernel_px", "mask.", c.colours.open_kernel_px);
     f.optional(m, "close_kernel_px", "mask.", c.colours.close_kernel_px);

@@ -31,6 +31,11 @@ struct ColourMaskConfig {
   /// Grey-world white balance before HSV: scales B, G, R so their means are equal, undoing the water's
   /// colour cast (red is lost fastest). Off reproduces the paper.
   bool grey_world = true;
+  /// Murky water washes every colour out, and after white balance the water itself is nearly grey. With a
+  /// factor > 0 a class's saturation floor drops, in a dull frame, to factor x the frame's median saturation
+  /// (the water's; never below saturation_floor_min, never above the class's own floor). 0 = off.
+  double saturation_floor_factor = 4.0;
+  int saturation_floor_min = 30;
   int blur_px = 5;                   ///< box blur before HSV against sensor noise in dark frames; 0 or 1 = off
   int open_kernel_px = 10;           ///< opening removes specks smaller than this (paper: 10x10); 0 or 1 = off
   int close_kernel_px = 10;          ///< closing fills holes smaller than this (paper: 10x10); 0 or 1 = off
@@ -43,6 +48,7 @@ cv::Mat greyWorld(const cv::Mat& bgr);
 
 /// Where the designated colours are. Binary masks, CV_8UC1 0/255, of the image's size.
 struct ColourMasks {
+  int saturation_median = 0;     ///< the frame's median HSV saturation (as searched, blurred)
   std::vector<cv::Mat> classes;  ///< one per colour class, in class order: HSV inRange only
   /// The union of all classes after opening then closing: where objects of any designated colour are. The
   /// union is cleaned, not each class, so an object whose shading speckles it between two neighbouring
