@@ -77,13 +77,22 @@ Detection describe2d(const Candidate& c, const cv::Mat& raw_bgr, const DetectorC
 
 /// Moves a fitted model along its viewing ray to the depth its silhouette's disparity gives (the angular
 /// size stays: centre and size scale together). Stereo surfaces are smoothed towards the object's rim, the
-/// silhouette is not; a sphere's silhouette belongs to its centre, a cylinder's to its axis.
+/// silhouette is not; a sphere's silhouette belongs to its centre.
 void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration) {
   if (!std::isfinite(disparity) || disparity <= 0 || fit.shape == "unknown") return;
   const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(calibration.left.R.val);
   const double z_rectified = (r * fit.centre).z();
   if (z_rectified <= 0) return;
-  const double scale = calibration.focalPx() * calibration.baselineM() / disparity / z_rectified;
+  double z_target = calibration.focalPx() * calibration.baselineM() / disparity;
+  if (fit.shape == "cylinder") {
+    // The silhouette's horizontal shift comes from its left and right ends. Along a tube lying across the
+    // image those are the end rims nearest the camera (perspective pushes them furthest out), a radius in
+    // front of the axis; across a tube standing upright they are its tangent lines, level with the axis.
+    const Eigen::Vector3d axis = r * (fit.orientation * Eigen::Vector3d::UnitZ());
+    const double in_image = std::hypot(axis.x(), axis.y());
+    if (in_image > 1e-6) z_target += fit.size.x() / 2 * std::abs(axis.x()) / in_image;
+  }
+  const double scale = z_target / z_rectified;
   fit.centre *= scale;
   fit.size *= scale;
 }
