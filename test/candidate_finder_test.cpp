@@ -131,6 +131,31 @@ TEST(CandidateFinder, MinContrastDropsADarkObjectThatOnlyLooksRed) {
   EXPECT_EQ(found[0].roi.x, 60);
 }
 
+TEST(CandidateFinder, FaceContrastIsHighForFlatFacesOfDifferentShadingOnly) {
+  cv::Mat img(300, 600, CV_8UC3, cv::Scalar(120, 120, 120));
+  cv::rectangle(img, cv::Rect(30, 100, 60, 100), cv::Scalar(30, 160, 30), cv::FILLED);   // box: lit face
+  cv::rectangle(img, cv::Rect(90, 100, 80, 100), cv::Scalar(20, 100, 20), cv::FILLED);   // ...shaded face
+  for (int r = 60; r > 0; --r) {  // sphere: brightness falls smoothly from the centre
+    cv::circle(img, {300, 150}, r, cv::Scalar(20, 60 + 2 * (60 - r), 20), cv::FILLED);
+  }
+  cv::rectangle(img, cv::Rect(420, 100, 140, 100), cv::Scalar(30, 140, 30), cv::FILLED);  // panel: one level
+  cv::Mat noise(img.size(), CV_16SC3);
+  cv::RNG(5).fill(noise, cv::RNG::NORMAL, 0, 3);
+  img.convertTo(img, CV_16SC3);
+  img += noise;
+  img.convertTo(img, CV_8UC3);
+  cv::Mat green = cv::Mat::zeros(img.size(), CV_8UC1);
+  cv::rectangle(green, cv::Rect(30, 100, 140, 100), 255, cv::FILLED);
+  cv::circle(green, {300, 150}, 60, 255, cv::FILLED);
+  cv::rectangle(green, cv::Rect(420, 100, 140, 100), 255, cv::FILLED);
+  std::vector<Candidate> found = findCandidates(img, masksOf({green}), {kGreen}, CandidateConfig{});
+  ASSERT_EQ(found.size(), 3U);
+  std::sort(found.begin(), found.end(), [](const Candidate& a, const Candidate& b) { return a.roi.x < b.roi.x; });
+  EXPECT_GT(found[0].face_contrast, 40.0) << "box";
+  EXPECT_LT(found[1].face_contrast, 12.0) << "sphere";
+  EXPECT_LT(found[2].face_contrast, 12.0) << "panel";
+}
+
 TEST(CandidateFinder, GreyThresholdModeKeepsOnlyContoursThatCarryTheColour) {
   cv::Mat img(300, 400, CV_8UC3, cv::Scalar(200, 200, 200));  // bright water
   cv::circle(img, {100, 150}, 40, cv::Scalar(30, 30, 120), cv::FILLED);  // dark red object

@@ -18,6 +18,34 @@ constexpr double kMinClassShare = 0.05;
 /// Window over which the pixels of a region holding two colour groups are given to one of them.
 constexpr int kGroupWindowPx = 11;
 
+/// Fisher ratio of an Otsu split of the grey levels under `mask` (eroded: edges mix object and water).
+double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask) {
+  cv::Mat grey, inner;
+  cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
+  cv::blur(grey, grey, cv::Size(5, 5));
+  cv::erode(mask, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(7, 7)));
+  std::vector<std::uint8_t> values;
+  for (int y = 0; y < inner.rows; ++y) {
+    for (int x = 0; x < inner.cols; ++x) {
+      if (inner.at<std::uint8_t>(y, x)) values.push_back(grey.at<std::uint8_t>(y, x));
+    }
+  }
+  if (values.size() < 50) return 0.0;
+  cv::Mat column(static_cast<int>(values.size()), 1, CV_8UC1, values.data()), split;
+  const double t = cv::threshold(column, split, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
+  double n[2] = {}, sum[2] = {}, sq[2] = {};
+  for (const std::uint8_t v : values) {
+    const int k = v > t;
+    n[k] += 1;
+    sum[k] += v;
+    sq[k] += double(v) * v;
+  }
+  if (n[0] < 0.1 * values.size() || n[1] < 0.1 * values.size()) return 0.0;  // one level
+  const double m0 = sum[0] / n[0], m1 = sum[1] / n[1];
+  const double var = sq[0] / n[0] - m0 * m0 + sq[1] / n[1] - m1 * m1;
+  return (m1 - m0) * (m1 - m0) / std::max(var, 1.0);
+}
+
 /// Fills `candidate` from its contour and the colour mask it belongs to.
 bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Point> contour, int colour_index,
               const CandidateConfig& config, Candidate& out) {
@@ -35,6 +63,7 @@ bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Po
   out.area_px = area;
   out.outline = classifyOutline(contour);
   out.mean_bgr = cv::mean(bgr(out.roi), out.mask);
+  out.face_contrast = faceContrast(bgr(out.roi), out.mask);
   out.contour = std::move(contour);
   return true;
 }

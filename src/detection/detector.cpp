@@ -156,7 +156,7 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
     if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) continue;
     Detection d = describe2d(c, left_bgr, config_);
     for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
-    ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), c.outline, config_.shape);
+    ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
     placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
     result.timings.fit_ms += stage.lapMs();
     if (!fit.centre.allFinite() || !fit.size.allFinite()) continue;  // never report NaN

@@ -117,9 +117,10 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(k, "min_points", "cluster.", c.cluster.min_points);
   }
   if (const YAML::Node s = root["shape"]) {
-    f.onlyKeys(s, "shape.", {"min_points", "plane_preference", "min_elongation"});
+    f.onlyKeys(s, "shape.", {"min_points", "plane_preference", "min_elongation", "box_face_contrast"});
     f.optional(s, "min_points", "shape.", c.shape.min_points);
     f.optional(s, "plane_preference", "shape.", c.shape.plane_preference);
+    f.optional(s, "box_face_contrast", "shape.", c.shape.box_face_contrast);
     f.optional(s, "min_elongation", "shape.", c.shape.min_elongation);
   }
   f.optional(root, "min_cluster_points", "", c.min_cluster_points);

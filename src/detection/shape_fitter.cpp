@@ -6,9 +6,17 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
 
 namespace underwater_stereo {
 namespace {
+
+/// Box faces: RANSAC plane tolerance as a share of the object's range, iterations, seed.
+constexpr double kBoxFaceTolerance = 0.005;
+constexpr int kRansacIterations = 100;
+constexpr unsigned kRansacSeed = 1;
 
 struct Pca {
   Eigen::Vector3d mean;
@@ -223,6 +231,65 @@ Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const 
   return scored;
 }
 
+/// Normal of the plane holding most points within `tolerance` (RANSAC, fixed seed: repeatable).
+Eigen::Vector3d dominantNormal(const std::vector<Eigen::Vector3d>& pts, double tolerance, const Eigen::Vector3d& fallback) {
+  std::mt19937 rng(kRansacSeed);
+  std::uniform_int_distribution<std::size_t> pick(0, pts.size() - 1);
+  Eigen::Vector3d best = fallback;
+  std::size_t best_count = 0;
+  for (int it = 0; it < kRansacIterations; ++it) {
+    const Eigen::Vector3d a = pts[pick(rng)], b = pts[pick(rng)], c = pts[pick(rng)];
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.norm() < 1e-12) continue;
+    n.normalize();
+    std::size_t count = 0;
+    for (const auto& q : pts) count += std::abs(n.dot(q - a)) < tolerance;
+    if (count > best_count) {
+      best_count = count;
+      best = n;
+    }
+  }
+  return best;
+}
+
+/// Box aligned with its largest visible face (RANSAC) and, within that face's plane, with the tightest
+/// rectangle around all points; spanning the points' 2nd to 98th percentiles (robust to stray points).
+Scored fitBox(const std::vector<Eigen::Vector3d>& pts, const Pca& p) {
+  Scored scored;
+  std::vector<double> ranges;
+  for (const auto& q : pts) ranges.push_back(q.norm());
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+  Eigen::Matrix3d axes;
+  axes.col(2) = dominantNormal(pts, kBoxFaceTolerance * ranges[ranges.size() / 2], p.axes.col(2));
+  const Eigen::Vector3d e1 = axes.col(2).unitOrthogonal(), e2 = axes.col(2).cross(e1);
+  std::vector<cv::Point2f> flat;
+  for (const auto& q : pts) flat.emplace_back(static_cast<float>(q.dot(e1)), static_cast<float>(q.dot(e2)));
+  const float angle = cv::minAreaRect(flat).angle * static_cast<float>(M_PI / 180);
+  axes.col(0) = std::cos(angle) * e1 + std::sin(angle) * e2;
+  axes.col(1) = axes.col(2).cross(axes.col(0));
+  ShapeFit& fit = scored.fit;
+  fit.shape = "box";
+  fit.centre = Eigen::Vector3d::Zero();
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> along;
+    for (const auto& q : pts) along.push_back(q.dot(axes.col(a)));
+    std::sort(along.begin(), along.end());
+    const double lo = along[along.size() / 50], hi = along[along.size() - 1 - along.size() / 50];
+    fit.centre += axes.col(a) * (lo + hi) / 2;
+    fit.size[a] = hi - lo;
+  }
+  fit.orientation = Eigen::Quaterniond(axes);
+  std::vector<double> residuals;  // distance to the nearest face
+  for (const auto& q : pts) {
+    const Eigen::Vector3d local = axes.transpose() * (q - fit.centre);
+    double nearest = std::numeric_limits<double>::max();
+    for (int a = 0; a < 3; ++a) nearest = std::min(nearest, std::abs(std::abs(local[a]) - fit.size[a] / 2));
+    residuals.push_back(nearest);
+  }
+  fit.rmse_m = rms(residuals);
+  return scored;
+}
+
 /// Elongation of the outline (as seen): ratio of its principal extents in the image plane.
 double outlineElongation(const std::vector<Eigen::Vector3d>& rays) {
   std::vector<Eigen::Vector3d> flat;
@@ -240,11 +307,12 @@ std::vector<std::string> ShapeFitConfig::validate() const {
   if (min_points < 3) p.push_back("shape.min_points must be >= 3");
   if (!(plane_preference >= 1.0 && plane_preference <= 10.0)) p.push_back("shape.plane_preference must be in [1, 10]");
   if (!(min_elongation >= 1.0 && min_elongation <= 20.0)) p.push_back("shape.min_elongation must be in [1, 20]");
+  if (!(box_face_contrast > 0 && box_face_contrast <= 1000)) p.push_back("shape.box_face_contrast must be in (0, 1000]");
   return p;
 }
 
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vector<Eigen::Vector3d>& outline_rays,
-                  const std::string& outline, const ShapeFitConfig& config) {
+                  const OutlineCues& cues, const ShapeFitConfig& config) {
   std::vector<Eigen::Vector3d> pts;
   pts.reserve(points_f.size());
   for (const auto& p : points_f) pts.push_back(p.cast<double>());
@@ -264,7 +332,10 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   const bool curved_ok = curved.fit.shape != "unknown" && curved.fit.centre.allFinite();
   // Stereo smoothing flattens smooth curved surfaces, so the 2D outline decides close calls: a round
   // outline is a sphere unless the plane is clearly better, anything else a plane unless the curve is.
-  const bool round = outline == "circle" || outline == "ellipse";
+  // Flat faces of clearly different shading: a box, whatever its outline (a box seen corner-on is a
+  // hexagon, close to an ellipse).
+  if (cues.face_contrast >= config.box_face_contrast) return fitBox(pts, p).fit;
+  const bool round = cues.outline == "circle" || cues.outline == "ellipse";
   const bool curved_wins = round ? curved.structure_m < plane.structure_m * config.plane_preference
                                  : curved.structure_m * config.plane_preference < plane.structure_m;
   if (curved_ok && curved_wins) return curved.fit;

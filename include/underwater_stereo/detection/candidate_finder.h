@@ -42,6 +42,10 @@ struct Candidate {
   double colour_fraction = 0.0;     ///< share of the contour's pixels in the colour mask
   std::string outline;              ///< circle, ellipse, triangle, rectangle or polygon
   cv::Scalar mean_bgr;              ///< mean colour of the object's pixels in the searched image
+  /// How clearly the object's brightness falls into two flat levels: the Fisher ratio (m1 - m2)^2 /
+  /// (s1^2 + s2^2) of an Otsu split of its (blurred) grey levels. A box shows faces of flat, different
+  /// shading (tens to hundreds); a sphere or cylinder a smooth gradient and a panel one level (a few).
+  double face_contrast = 0.0;
 };
 
 /// Classifies a closed contour: "circle", "ellipse", "triangle", "rectangle" or "polygon".

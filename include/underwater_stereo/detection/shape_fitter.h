@@ -16,8 +16,9 @@ namespace underwater_stereo {
 
 struct ShapeFitConfig {
   double min_points = 30;           ///< fewer points: "unknown"
-  double plane_preference = 1.4;    ///< margin by which the model the outline does not favour must win
+  double plane_preference = 2.5;    ///< margin by which the model the outline does not favour must win
   double min_elongation = 2.2;      ///< outline length/width from which an object may be a cylinder
+  double box_face_contrast = 20.0;  ///< an object whose shading splits this clearly into flat faces is a box
 
   std::vector<std::string> validate() const;
 };
@@ -30,11 +31,18 @@ struct ShapeFit {
   double rmse_m = 0.0;                                              ///< of the points about the model
 };
 
+/// What the 2D image says about the shape.
+struct OutlineCues {
+  std::string outline;         ///< the contour's class (classifyOutline)
+  double face_contrast = 0.0;  ///< Candidate::face_contrast: flat faces of different shading
+};
+
 /// Fits the object. `points`: its cluster (left optical frame, metres); `outline_rays`: unit viewing rays
-/// of its 2D contour (left optical frame, lens distortion removed); `outline`: the contour's class
-/// (classifyOutline), which settles close calls between plane and sphere. Returns "unknown" with the
-/// points' centroid and extents when no model fits.
+/// of its 2D contour (left optical frame, lens distortion removed); `cues`: the outline settles close calls
+/// between plane and sphere, and flat faces of clearly different shading make a box (stereo
+/// on uniformly coloured faces is too smooth to show their edges). Returns "unknown" with the points'
+/// centroid and extents when no model fits.
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays,
-                  const std::string& outline, const ShapeFitConfig& config);
+                  const OutlineCues& cues, const ShapeFitConfig& config);
 
 }  // namespace underwater_stereo
