@@ -50,6 +50,38 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
   EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
 }
 
+TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
+  // A uniformly coloured sphere (no texture for block matching): its colour mask's shift between the
+  // rectified views is the disparity of its outline, the tangent circle R^2 / d in front of its centre.
+  for (const double depth : {1.5, 3.0}) {
+    sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
+    ball.albedo = {0.85, 0.08, 0.06};
+    const sim::Renderer renderer(sim::test::smallScene(ball));
+    const sim::RenderedPair pair = renderer.render(0, 0);
+    cv::Mat left, right, left_mask, right_mask;
+    cv::cvtColor(pair.left, left, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(pair.right, right, cv::COLOR_BGR2GRAY);
+    // Both masks from colour, as the detector makes them (a red ball on bluish water).
+    auto redMask = [](const cv::Mat& bgr) {
+      cv::Mat channels[3], mask;
+      cv::split(bgr, channels);
+      cv::compare(channels[2], channels[0], mask, cv::CMP_GT);
+      return mask;
+    };
+    left_mask = redMask(pair.left);
+    right_mask = redMask(pair.right);
+    const cv::Rect roi = pair.ground_truth.at(0).roi_left;
+    const RoiStereoMatcher matcher(renderer.calibration(), StereoMatchConfig{});
+    const RoiPoints pts = matcher.match(left, right, roi, left_mask(roi), right_mask);
+    const double d = ball.position_m.norm(), r = 0.15;
+    const double tangent_z = depth * (1 - r * r / (d * d));
+    const double expected = renderer.calibration().focalPx() * renderer.calibration().baselineM() / tangent_z;
+    EXPECT_NEAR(pts.silhouette_disparity, expected, 0.25) << "at " << depth << " m";
+    const RoiPoints without = matcher.match(left, right, roi, left_mask(roi));
+    EXPECT_TRUE(std::isnan(without.silhouette_disparity));
+  }
+}
+
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
   const GreyPair pair = texturedPanelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
@@ -69,6 +101,7 @@ TEST(RoiStereoMatcher, BadInputThrows) {
   cv::Mat colour;
   cv::cvtColor(pair.left, colour, cv::COLOR_GRAY2BGR);
   EXPECT_THROW(matcher.match(colour, pair.right, roi, mask), std::invalid_argument);
+  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC1)), std::invalid_argument);
 }
 
 TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
