@@ -1,0 +1,381 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Runs the Detector on synchronised stereo pairs: objects, annotated image and snapshot, markers, the
+// objects' cloud, a TF frame per object, diagnostics. Only the latest pair is processed; pairs that arrive
+// while one is being processed replace the waiting one and are counted as dropped.
+#include <cv_bridge/cv_bridge.h>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <ros/package.h>
+#include <ros/ros.h>
+#include <tf2/LinearMath/Quaternion.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <boost/bind/bind.hpp>
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "underwater_stereo/DetectorTuningConfig.h"
+#include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/annotator.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/ros_glue/detection_conversions.h"
+#include "underwater_stereo/ros_glue/param_reader.h"
+#include "underwater_stereo/ros_glue/stereo_input.h"
+
+namespace underwater_stereo {
+
+namespace {
+
+using namespace boost::placeholders;
+using sensor_msgs::CameraInfo;
+using sensor_msgs::CameraInfoConstPtr;
+using sensor_msgs::Image;
+using sensor_msgs::ImageConstPtr;
+using ExactPolicy = message_filters::sync_policies::ExactTime<Image, CameraInfo, Image, CameraInfo>;
+using ApproximatePolicy = message_filters::sync_policies::ApproximateTime<Image, CameraInfo, Image, CameraInfo>;
+
+struct Pair {
+  ImageConstPtr left, right;
+  CameraInfoConstPtr left_info, right_info;
+};
+
+bool sameCalibration(const CameraCalibration& a, const CameraCalibration& b) {
+  return a.width == b.width && a.height == b.height && a.K == b.K && a.R == b.R && a.P == b.P &&
+         cv::norm(a.D, b.D, cv::NORM_INF) == 0;
+}
+
+/// The operator's thresholds (dynamic_reconfigure) <-> the detector configuration.
+void toReconfigure(const DetectorConfig& c, DetectorTuningConfig& r) {
+  r.too_dark_below = c.quality.too_dark_below;
+  r.too_bright_above = c.quality.too_bright_above;
+  r.enhance_below = c.quality.enhance_below;
+  r.min_area_px = c.candidates.min_area_px;
+  r.min_colour_fraction = c.candidates.min_colour_fraction;
+  r.min_depth_m = c.stereo.min_depth_m;
+  r.max_depth_m = c.stereo.max_depth_m;
+  r.cluster_eps_m = c.cluster.eps_m;
+  r.cluster_min_points = c.cluster.min_points;
+}
+
+DetectorConfig fromReconfigure(DetectorConfig c, const DetectorTuningConfig& r) {
+  c.quality.too_dark_below = r.too_dark_below;
+  c.quality.too_bright_above = r.too_bright_above;
+  c.quality.enhance_below = r.enhance_below;
+  c.candidates.min_area_px = r.min_area_px;
+  c.candidates.min_colour_fraction = r.min_colour_fraction;
+  c.stereo.min_depth_m = r.min_depth_m;
+  c.stereo.max_depth_m = r.max_depth_m;
+  c.cluster.eps_m = r.cluster_eps_m;
+  c.cluster.min_points = r.cluster_min_points;
+  return c;
+}
+
+}  // namespace
+
+class DetectorNodelet : public nodelet::Nodelet {
+ public:
+  ~DetectorNodelet() override {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    if (worker_.joinable()) worker_.join();
+  }
+
+ private:
+  void onInit() override {
+    ros::NodeHandle& nh = getNodeHandle();
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    std::vector<std::string> problems;
+    ros_glue::ParamReader params(pnh, problems);
+    std::string config_file = ros::package::getPath("underwater_stereo") + "/config/detector.yaml";
+    bool approximate = false;
+    int queue_size = 5;
+    std::string mount_frame;
+    std::vector<double> mount_xyz{0, 0, 0}, mount_rpy{0, 0, 0};
+    params.optional("config_file", config_file);
+    params.optional("approximate_sync", approximate);
+    params.optional("max_skew_s", max_skew_s_);
+    params.optional("queue_size", queue_size);
+    params.optional("object_frame_prefix", frame_prefix_);
+    params.optional("publish_tf", publish_tf_);
+    params.optional("mount_frame", mount_frame);
+    params.optional("mount_xyz", mount_xyz);
+    params.optional("mount_rpy", mount_rpy);
+    params.optional("stereo_frame", stereo_frame_);
+    if (queue_size < 1 || queue_size > 100) problems.push_back(pnh.resolveName("queue_size") + ": must be 1..100");
+    if (!(max_skew_s_ >= 0 && max_skew_s_ < 1)) problems.push_back(pnh.resolveName("max_skew_s") + ": must be in [0, 1)");
+    if (mount_xyz.size() != 3) problems.push_back(pnh.resolveName("mount_xyz") + ": needs 3 numbers [m]");
+    if (mount_rpy.size() != 3) problems.push_back(pnh.resolveName("mount_rpy") + ": needs 3 numbers [rad]");
+    if (!mount_frame.empty() && stereo_frame_.empty()) {
+      problems.push_back(pnh.resolveName("stereo_frame") + ": needed with mount_frame (the left optical frame)");
+    }
+    if (!approximate) max_skew_s_ = 0.0;
+    try {
+      config_ = loadDetectorConfigFile(config_file);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(pnh.resolveName("config_file") + " (" + config_file + "): " + e.what());
+    }
+    if (!problems.empty()) {
+      const std::string message = joinProblems("DetectorNodelet: invalid configuration, not started", problems);
+      NODELET_FATAL_STREAM(message);
+      throw std::invalid_argument(message);
+    }
+
+    objects_pub_ = pnh.advertise<DetectedObjectArray>("objects", 10);
+    markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 2);
+    cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cloud", 2);
+    image_transport::ImageTransport private_it(pnh);
+    image_pub_ = private_it.advertise("image", 2);
+    snapshot_pub_ = private_it.advertise("snapshot", 2);
+    if (!mount_frame.empty()) publishMount(mount_frame, mount_xyz, mount_rpy);
+
+    reconfigure_ = std::make_unique<dynamic_reconfigure::Server<DetectorTuningConfig>>(reconfigure_mutex_, pnh);
+    DetectorTuningConfig start;
+    toReconfigure(config_, start);
+    reconfigure_->updateConfig(start);
+    reconfigure_->setCallback([this](DetectorTuningConfig& r, std::uint32_t) { onReconfigure(r); });
+
+    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
+    diagnostics_->setHardwareID("underwater_stereo detector");
+    diagnostics_->add("detector", this, &DetectorNodelet::diagnose);
+    diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
+      diagnostics_->force_update();
+    });
+
+    worker_ = std::thread([this] { work(); });
+    left_topic_ = nh.resolveName("left/image_raw");
+    right_topic_ = nh.resolveName("right/image_raw");
+    image_transport::ImageTransport it(nh);
+    left_image_sub_.subscribe(it, "left/image_raw", queue_size);
+    right_image_sub_.subscribe(it, "right/image_raw", queue_size);
+    left_info_sub_.subscribe(nh, "left/camera_info", queue_size);
+    right_info_sub_.subscribe(nh, "right/camera_info", queue_size);
+    if (approximate) {
+      approximate_sync_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(
+          ApproximatePolicy(queue_size), left_image_sub_, left_info_sub_, right_image_sub_, right_info_sub_);
+      approximate_sync_->registerCallback(boost::bind(&DetectorNodelet::onPair, this, _1, _2, _3, _4));
+    } else {
+      exact_sync_ = std::make_unique<message_filters::Synchronizer<ExactPolicy>>(
+          ExactPolicy(queue_size), left_image_sub_, left_info_sub_, right_image_sub_, right_info_sub_);
+      exact_sync_->registerCallback(boost::bind(&DetectorNodelet::onPair, this, _1, _2, _3, _4));
+    }
+    NODELET_INFO_STREAM("DetectorNodelet: " << config_.colours.classes.size() << " designated colours from "
+                        << config_file << ", " << (approximate ? "approximate" : "exact") << " sync on "
+                        << left_topic_ << " / " << right_topic_ << ", objects on " << pnh.resolveName("objects"));
+  }
+
+  void publishMount(const std::string& mount_frame, const std::vector<double>& xyz, const std::vector<double>& rpy) {
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = ros::Time::now();
+    t.header.frame_id = mount_frame;
+    t.child_frame_id = stereo_frame_;
+    t.transform.translation.x = xyz[0];
+    t.transform.translation.y = xyz[1];
+    t.transform.translation.z = xyz[2];
+    tf2::Quaternion q;
+    q.setRPY(rpy[0], rpy[1], rpy[2]);
+    t.transform.rotation.x = q.x();
+    t.transform.rotation.y = q.y();
+    t.transform.rotation.z = q.z();
+    t.transform.rotation.w = q.w();
+    static_broadcaster_.sendTransform(t);
+  }
+
+  void onReconfigure(const DetectorTuningConfig& r) {
+    const DetectorConfig next = fromReconfigure(config_, r);
+    const auto problems = next.validate();
+    if (!problems.empty()) {
+      NODELET_ERROR_STREAM(joinProblems("DetectorNodelet: reconfiguration refused, keeping the previous values",
+                                        problems));
+      return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    config_ = next;
+    rebuild_ = true;
+  }
+
+  void onPair(const ImageConstPtr& left, const CameraInfoConstPtr& left_info, const ImageConstPtr& right,
+              const CameraInfoConstPtr& right_info) {
+    ++received_;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (has_waiting_) ++dropped_;
+      waiting_ = Pair{left, right, left_info, right_info};
+      has_waiting_ = true;
+    }
+    wake_.notify_one();
+  }
+
+  void work() {
+    while (true) {
+      Pair pair;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return stopping_ || has_waiting_; });
+        if (stopping_) return;
+        pair = std::move(waiting_);
+        waiting_ = Pair{};
+        has_waiting_ = false;
+      }
+      process(pair);
+    }
+  }
+
+  void badInput(const std::string& what) {
+    ++bad_inputs_;
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    last_error_ = what;
+    last_error_time_ = ros::WallTime::now();
+    NODELET_ERROR_STREAM_THROTTLE(5.0, "DetectorNodelet: pair skipped: " << what);
+  }
+
+  void process(const Pair& pair) {
+    const ros::WallTime start = ros::WallTime::now();
+    ros_glue::StereoInput input;
+    try {
+      input = ros_glue::toStereoInput(*pair.left, *pair.left_info, *pair.right, *pair.right_info, left_topic_,
+                                      right_topic_, max_skew_s_);
+    } catch (const std::invalid_argument& e) {
+      badInput(e.what());
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if (!detector_ || rebuild_ || !sameCalibration(input.calibration.left, calibration_.left) ||
+          !sameCalibration(input.calibration.right, calibration_.right)) {
+        try {
+          detector_ = std::make_unique<Detector>(config_, input.calibration);
+          calibration_ = input.calibration;
+          rebuild_ = false;
+        } catch (const std::invalid_argument& e) {
+          detector_.reset();
+          badInput(e.what());
+          return;
+        }
+      }
+    }
+    DetectionResult result;
+    try {
+      result = detector_->detect(input.left, input.right);
+    } catch (const std::invalid_argument& e) {
+      badInput(e.what());
+      return;
+    }
+    std_msgs::Header header = pair.left->header;
+    objects_pub_.publish(ros_glue::toObjectsMsg(result, header));
+    if (publish_tf_ && !result.objects.empty()) {
+      broadcaster_.sendTransform(ros_glue::toTransforms(result, header, frame_prefix_));
+    }
+    if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
+    if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));
+    const bool want_snapshot = snapshot_pub_.getNumSubscribers() > 0 && !result.objects.empty();
+    if (image_pub_.getNumSubscribers() > 0 || want_snapshot) {
+      const sensor_msgs::ImagePtr annotated = cv_bridge::CvImage(header, "bgr8", annotate(input.left, result)).toImageMsg();
+      if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(annotated);
+      if (want_snapshot) snapshot_pub_.publish(annotated);
+    }
+    ++processed_;
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    last_quality_ = result.quality;
+    last_processing_ms_ = (ros::WallTime::now() - start).toSec() * 1000.0;
+    max_processing_ms_ = std::max(max_processing_ms_, last_processing_ms_);
+  }
+
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    const ros::WallTime now = ros::WallTime::now();
+    const double elapsed = last_diagnosis_.isZero() ? 0.0 : (now - last_diagnosis_).toSec();
+    const long received = received_, processed = processed_;
+    const double input_hz = elapsed > 0 ? (received - last_received_) / elapsed : 0.0;
+    const double processed_hz = elapsed > 0 ? (processed - last_processed_) / elapsed : 0.0;
+    last_diagnosis_ = now;
+    last_received_ = received;
+    last_processed_ = processed;
+    std::lock_guard<std::mutex> lock(stats_mutex_);
+    const bool recent_error = !last_error_time_.isZero() && (now - last_error_time_).toSec() < kErrorHoldS;
+    if (recent_error) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "bad input: " + last_error_);
+    } else if (received == 0) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no stereo pairs received yet");
+    } else if (last_quality_.spoiled()) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames spoiled: " + qualityStatusName(last_quality_.status));
+    } else {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "detecting");
+    }
+    stat.add("input rate [Hz]", input_hz);
+    stat.add("processed rate [Hz]", processed_hz);
+    stat.add("pairs received", received);
+    stat.add("pairs processed", processed);
+    stat.add("pairs dropped (detector busy)", static_cast<long>(dropped_));
+    stat.add("bad input pairs", static_cast<long>(bad_inputs_));
+    stat.add("last bad input", last_error_.empty() ? std::string("none") : last_error_);
+    stat.add("processing time [ms]", last_processing_ms_);
+    stat.add("max processing time [ms]", max_processing_ms_);
+    stat.add("quality", qualityStatusName(last_quality_.status));
+    stat.add("mean brightness", last_quality_.mean_brightness);
+  }
+
+  static constexpr double kErrorHoldS = 5.0;  ///< a bad pair keeps the diagnostic at ERROR this long
+
+  // Configuration.
+  DetectorConfig config_;
+  double max_skew_s_ = 0.005;
+  std::string frame_prefix_;
+  std::string stereo_frame_ = "stereo_left_optical_frame";
+  bool publish_tf_ = true;
+  std::string left_topic_, right_topic_;
+
+  // Input.
+  image_transport::SubscriberFilter left_image_sub_, right_image_sub_;
+  message_filters::Subscriber<CameraInfo> left_info_sub_, right_info_sub_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
+
+  // The latest pair, handed to the worker (guarded by mutex_, with config_, rebuild_, detector_).
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  Pair waiting_;
+  bool has_waiting_ = false;
+  bool stopping_ = false;
+  bool rebuild_ = false;
+  std::unique_ptr<Detector> detector_;
+  StereoCalibration calibration_;
+  std::thread worker_;
+
+  // Output.
+  ros::Publisher objects_pub_, markers_pub_, cloud_pub_;
+  image_transport::Publisher image_pub_, snapshot_pub_;
+  tf2_ros::TransformBroadcaster broadcaster_;
+  tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<DetectorTuningConfig>> reconfigure_;
+
+  // Diagnostics.
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  ros::WallTimer diagnostics_timer_;
+  std::atomic<long> received_{0}, processed_{0}, dropped_{0}, bad_inputs_{0};
+  std::mutex stats_mutex_;
+  std::string last_error_;
+  ros::WallTime last_error_time_, last_diagnosis_;
+  long last_received_ = 0, last_processed_ = 0;
+  QualityReport last_quality_;
+  double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
+};
+
+}  // namespace underwater_stereo
+
+PLUGINLIB_EXPORT_CLASS(underwater_stereo::DetectorNodelet, nodelet::Nodelet)

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/ros_glue/stereo_input.h"
+
+#include <cv_bridge/cv_bridge.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/ros_glue/calibration_conversions.h"
+
+namespace underwater_stereo {
+namespace ros_glue {
+namespace {
+
+std::string sizeOf(std::uint32_t width, std::uint32_t height) {
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+cv::Mat toBgr(const sensor_msgs::Image& image, const std::string& topic) {
+  if (!acceptedEncoding(image.encoding)) {
+    throw std::invalid_argument(topic + ": encoding '" + image.encoding +
+                                "' is not accepted (bayer_rggb8/bggr8/gbrg8/grbg8, bgr8, rgb8, mono8)");
+  }
+  if (image.width == 0 || image.height == 0 || image.data.size() < static_cast<std::size_t>(image.step) * image.height ||
+      image.step < image.width * static_cast<std::uint32_t>(sensor_msgs::image_encodings::numChannels(image.encoding))) {
+    throw std::invalid_argument(topic + ": empty or truncated image (" + sizeOf(image.width, image.height) + ", step " +
+                                std::to_string(image.step) + ", " + std::to_string(image.data.size()) + " bytes)");
+  }
+  try {
+    // Shares the buffer when it is bgr8 already (zero-copy within a nodelet manager).
+    return cv_bridge::toCvShare(image, boost::shared_ptr<const void>(), sensor_msgs::image_encodings::BGR8)->image;
+  } catch (const cv_bridge::Exception& e) {
+    throw std::invalid_argument(topic + ": cannot convert '" + image.encoding + "' to bgr8: " + e.what());
+  }
+}
+
+CameraCalibration toCalibration(const sensor_msgs::CameraInfo& info, const sensor_msgs::Image& image,
+                                const std::string& topic) {
+  if (info.width != image.width || info.height != image.height) {
+    throw std::invalid_argument(topic + ": image is " + sizeOf(image.width, image.height) + " but its camera_info is " +
+                                sizeOf(info.width, info.height));
+  }
+  return fromCameraInfo(info);
+}
+
+}  // namespace
+
+bool acceptedEncoding(const std::string& e) {
+  namespace enc = sensor_msgs::image_encodings;
+  return e == enc::BAYER_RGGB8 || e == enc::BAYER_BGGR8 || e == enc::BAYER_GBRG8 || e == enc::BAYER_GRBG8 ||
+         e == enc::BGR8 || e == enc::RGB8 || e == enc::MONO8;
+}
+
+StereoInput toStereoInput(const sensor_msgs::Image& left, const sensor_msgs::CameraInfo& left_info,
+                          const sensor_msgs::Image& right, const sensor_msgs::CameraInfo& right_info,
+                          const std::string& left_topic, const std::string& right_topic, double max_skew_s) {
+  const double skew = std::abs((left.header.stamp - right.header.stamp).toSec());
+  if (skew > max_skew_s) {
+    throw std::invalid_argument(left_topic + " and " + right_topic + ": stamps " + std::to_string(skew) +
+                                " s apart (at most " + std::to_string(max_skew_s) + " s)");
+  }
+  StereoInput in;
+  in.left = toBgr(left, left_topic);
+  in.right = toBgr(right, right_topic);
+  if (in.left.size() != in.right.size()) {
+    throw std::invalid_argument(left_topic + " is " + sizeOf(left.width, left.height) + " but " + right_topic + " is " +
+                                sizeOf(right.width, right.height));
+  }
+  in.calibration.left = toCalibration(left_info, left, left_topic);
+  in.calibration.right = toCalibration(right_info, right, right_topic);
+  const auto problems = in.calibration.validate();
+  if (!problems.empty()) {
+    throw std::invalid_argument(joinProblems("camera_info of " + left_topic + " / " + right_topic, problems));
+  }
+  return in;
+}
+
+}  // namespace ros_glue
+}  // namespace underwater_stereo
