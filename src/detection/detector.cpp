@@ -171,7 +171,8 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
     d.range_m = fit.centre.norm();
     d.fit_rmse_m = fit.rmse_m;
     const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
-    d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / 0.02);
+    // Stereo noise grows with range: the fit residual is judged against 1 % of it.
+    d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
     result.objects.push_back(std::move(d));
   }
   result.timings.total_ms = total.lapMs();

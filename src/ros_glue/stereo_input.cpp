@@ -29,8 +29,12 @@ cv::Mat toBgr(const sensor_msgs::Image& image, const std::string& topic) {
                                 std::to_string(image.step) + ", " + std::to_string(image.data.size()) + " bytes)");
   }
   try {
-    // Shares the buffer when it is bgr8 already (zero-copy within a nodelet manager).
-    return cv_bridge::toCvShare(image, boost::shared_ptr<const void>(), sensor_msgs::image_encodings::BGR8)->image;
+    // bgr8 shares the message's buffer (zero-copy within a nodelet manager; the caller keeps the message).
+    // Anything else is converted: toCvShare would share rgb8 unconverted (same channels and depth).
+    if (image.encoding == sensor_msgs::image_encodings::BGR8) {
+      return cv_bridge::toCvShare(image, boost::shared_ptr<const void>())->image;
+    }
+    return cv_bridge::toCvCopy(image, sensor_msgs::image_encodings::BGR8)->image;
   } catch (const cv_bridge::Exception& e) {
     throw std::invalid_argument(topic + ": cannot convert '" + image.encoding + "' to bgr8: " + e.what());
   }

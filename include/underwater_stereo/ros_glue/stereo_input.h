@@ -15,7 +15,9 @@ namespace underwater_stereo {
 namespace ros_glue {
 
 struct StereoInput {
-  cv::Mat left, right;             ///< BGR8 (Bayer demosaiced, RGB swapped, mono replicated)
+  /// BGR8 (Bayer demosaiced, RGB swapped, mono replicated); bgr8 input is shared, not copied: keep the
+  /// messages while these are used.
+  cv::Mat left, right;
   StereoCalibration calibration;
 };
 
