@@ -125,6 +125,7 @@ speed: fast
     EXPECT_NE(m.find("colours[1].name: missing"), std::string::npos) << m;
     EXPECT_NE(m.find("'magic' is not colour_mask or grey_threshold"), std::string::npos) << m;
     EXPECT_NE(m.find("candidates.min_area_px: expected a number"), std::string::npos) << m;
+    EXPECT_NE(m.find("stereo: need 0.05 < min_depth_m < max_depth_m"), std::string::npos) << "value problems too: " << m;
   }
   EXPECT_THROW(parseDetectorConfig(YAML::Load("stereo: {min_depth_m: 6}\ncolours: [{name: red, hue: [0, 10]}]")),
                std::invalid_argument);

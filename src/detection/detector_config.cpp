@@ -124,7 +124,9 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(s, "min_elongation", "shape.", c.shape.min_elongation);
   }
   f.optional(root, "min_cluster_points", "", c.min_cluster_points);
-  if (problems.empty()) problems = c.validate();
+  // Every value problem too, not only the ones the reading found (a misread field keeps its valid default).
+  const auto invalid = c.validate();
+  problems.insert(problems.end(), invalid.begin(), invalid.end());
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   return c;
 }
