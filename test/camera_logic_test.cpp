@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The camera logic that needs no camera: pairing, frame-id gaps, clock mapping, feature-name fallback.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+
+#include "underwater_stereo/camera/clock_mapper.h"
+#include "underwater_stereo/camera/frame_id_tracker.h"
+#include "underwater_stereo/camera/frame_pairer.h"
+#include "underwater_stereo/camera/genicam_features.h"
+
+using namespace underwater_stereo;
+
+TEST(FramePairer, PairsByCaptureTimeAndCountsFramesLeftWithoutAPartner) {
+  using Pairer = FramePairer<int>;
+  Pairer p(1'000'000);  // 1 ms
+  const std::int64_t period = 66'666'667;  // 15 Hz
+  int pairs = 0;
+  for (int k = 0; k < 10; ++k) {
+    const std::int64_t t = k * period;
+    if (k == 4) {  // the right frame of pair 4 is lost
+      EXPECT_FALSE(p.add(Pairer::kLeft, t, k));
+      continue;
+    }
+    EXPECT_FALSE(p.add(Pairer::kLeft, t + 200'000, k));  // left 0.2 ms late
+    const auto pair = p.add(Pairer::kRight, t, 100 + k);
+    ASSERT_TRUE(pair) << k;
+    EXPECT_EQ(pair->first, k);
+    EXPECT_EQ(pair->second, 100 + k);
+    ++pairs;
+  }
+  EXPECT_EQ(pairs, 9);
+  EXPECT_EQ(p.dropped(), 1U);  // left 4, once right 5 arrived
+  EXPECT_EQ(p.waiting(Pairer::kLeft) + p.waiting(Pairer::kRight), 0U);
+}
+
+TEST(FramePairer, FramesOutsideTheSkewNeverPairAndWaitingIsBounded) {
+  using Pairer = FramePairer<int>;
+  Pairer p(1'000'000, 3);
+  EXPECT_FALSE(p.add(Pairer::kLeft, 0, 0));
+  EXPECT_FALSE(p.add(Pairer::kRight, 5'000'000, 1)) << "5 ms apart";
+  EXPECT_EQ(p.dropped(), 1U) << "left 0 can no longer pair";
+  for (int k = 0; k < 6; ++k) p.add(Pairer::kRight, 10'000'000 + k * 100'000'000LL, k);
+  EXPECT_EQ(p.waiting(Pairer::kRight), 3U);
+  EXPECT_EQ(p.pairs(), 0U);
+}
+
+TEST(FrameIdTracker, CountsGapsAcrossThe16BitWrapSkippingZero) {
+  FrameIdTracker t;
+  EXPECT_EQ(t.missedBefore(65533), 0U);  // first
+  EXPECT_EQ(t.missedBefore(65534), 0U);
+  EXPECT_EQ(t.missedBefore(65535), 0U);
+  EXPECT_EQ(t.missedBefore(1), 0U) << "65535 -> 1: 0 is never used";
+  EXPECT_EQ(t.missedBefore(4), 2U);
+  EXPECT_EQ(t.missedBefore(65534 + 65536), 0U) << "taken modulo 65536: a jump backwards, restart";
+  EXPECT_EQ(t.missedBefore(3), 3U) << "65534 -> 3 misses 65535, 1, 2";
+  EXPECT_EQ(t.missedBefore(3), 0U) << "repeated";
+  EXPECT_EQ(t.totalMissed(), 5U);
+  EXPECT_EQ(t.missedBefore(0), 0U);
+  EXPECT_EQ(t.missedBefore(9), 0U) << "after 0: restart";
+}
+
+TEST(ClockMapper, RemovesTransferJitterAndFollowsACameraRestart) {
+  ClockMapper m(32);
+  std::mt19937 rng(3);
+  std::exponential_distribution<double> delay(1.0 / 2e6);  // 2 ms mean transfer delay
+  const std::int64_t offset = 1'700'000'000'000'000'000LL;
+  double worst = 0, worst_raw = 0;
+  for (int k = 0; k < 200; ++k) {
+    const std::uint64_t device = 1'000'000'000ULL + k * 66'666'667ULL;
+    const std::int64_t host = offset + static_cast<std::int64_t>(device) + 300'000 + static_cast<std::int64_t>(delay(rng));
+    const std::int64_t mapped = m.toHost(device, host);
+    const std::int64_t truth = offset + static_cast<std::int64_t>(device) + 300'000;
+    if (k >= 32) {
+      worst = std::max(worst, std::abs(double(mapped - truth)));
+      worst_raw = std::max(worst_raw, std::abs(double(host - truth)));
+    }
+  }
+  EXPECT_LT(worst, 500'000) << "within 0.5 ms of capture + minimum delay";
+  EXPECT_GT(worst_raw, 5'000'000) << "receive times alone jitter by more than 5 ms";
+  // Restart: the device clock starts again near 0.
+  const std::int64_t host = offset + 50'000'000'000LL;
+  EXPECT_EQ(m.toHost(5'000'000, host), host);
+  EXPECT_EQ(m.toHost(0, 1234), 1234) << "no device timestamp: host time";
+  EXPECT_THROW(ClockMapper(0), std::invalid_argument);
+}
+
+namespace {
+
+/// Features held in maps; a camera of one generation or another.
+class MapCamera : public FeatureAccess {
+ public:
+  std::map<std::string, double> floats;
+  std::map<std::string, double> max;
+  std::map<std::string, std::string> strings;
+  bool available(const std::string& n) const override { return floats.count(n) || strings.count(n); }
+  void setFloat(const std::string& n, double v) override {
+    floats.at(n) = max.count(n) ? std::min(v, max.at(n)) : v;  // clamps, as cameras do
+  }
+  double getFloat(const std::string& n) const override { return floats.at(n); }
+  void setInteger(const std::string& n, long v) override { floats.at(n) = double(v); }
+  long getInteger(const std::string& n) const override { return long(floats.at(n)); }
+  void setString(const std::string& n, const std::string& v) override {
+    if (v == "Bad") throw std::runtime_error("not an entry");
+    strings.at(n) = v;
+  }
+  std::string getString(const std::string& n) const override { return strings.at(n); }
+  void execute(const std::string&) override {}
+};
+
+}  // namespace
+
+TEST(GenicamFeatures, FallsBackBetweenFeatureNamesAndReportsRefusedValues) {
+  MapCamera older;  // e.g. a Basler of the GigE generation: ...Abs names, raw gain
+  older.floats = {{"ExposureTimeAbs", 1000}, {"GainRaw", 0}, {"AcquisitionFrameRateAbs", 10}};
+  older.max = {{"AcquisitionFrameRateAbs", 50}};
+  EXPECT_EQ(firstAvailable(older, {"ExposureTime", "ExposureTimeAbs"}), "ExposureTimeAbs");
+  EXPECT_DOUBLE_EQ(setFloatFeature(older, {"ExposureTime", "ExposureTimeAbs"}, 5000), 5000);
+  EXPECT_DOUBLE_EQ(older.floats["ExposureTimeAbs"], 5000);
+  EXPECT_DOUBLE_EQ(setFloatFeature(older, {"AcquisitionFrameRate", "AcquisitionFrameRateAbs"}, 15), 15);
+  try {
+    setFloatFeature(older, {"AcquisitionFrameRate", "AcquisitionFrameRateAbs"}, 80);
+    FAIL() << "a clamped value must be an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("AcquisitionFrameRateAbs = 80"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("reads 50"), std::string::npos) << e.what();
+  }
+  try {
+    firstAvailable(older, {"Gain", "GainDb"});
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("none of the features Gain GainDb"), std::string::npos) << e.what();
+  }
+  MapCamera newer;
+  newer.strings = {{"TriggerMode", "Off"}};
+  setStringFeature(newer, "TriggerMode", "On");
+  EXPECT_EQ(newer.strings["TriggerMode"], "On");
+  EXPECT_THROW(setStringFeature(newer, "TriggerMode", "Bad"), std::runtime_error);
+  EXPECT_THROW(setStringFeature(newer, "TriggerSource", "Line1"), std::runtime_error);
+}
