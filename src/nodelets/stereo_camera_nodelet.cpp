@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Publishes synchronised stereo pairs (left/right image_raw + camera_info) from a StereoSource chosen by
-// the `source` parameter. The simulated source also publishes its ground truth on `ground_truth`.
+// the `source` parameter: `sim` (the simulated scene; also its ground truth on `ground_truth`) or `aravis`
+// (two GigE Vision cameras; calibration from camera_info_manager, diagnostics per camera).
+#include <camera_info_manager/camera_info_manager.h>
 #include <cv_bridge/cv_bridge.h>
+#include <diagnostic_updater/diagnostic_updater.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -10,6 +13,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "underwater_stereo/camera/aravis_stereo_source.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
@@ -26,37 +30,48 @@ class StereoCameraNodelet : public nodelet::Nodelet {
 
  private:
   void onInit() override {
-    ros::NodeHandle& nh = getNodeHandle();
     ros::NodeHandle& pnh = getPrivateNodeHandle();
     std::vector<std::string> problems;
     ros_glue::ParamReader params(pnh, problems);
     std::string source = "sim";
-    std::string scene_path;
-    sim::SimSourceConfig sim_config;
     params.optional("source", source);
     params.optional("frame_id", frame_id_);
-    if (source == "sim") {
-      params.required("scene", scene_path);
-      params.optional("rate_hz", sim_config.rate_hz);
-      params.optional("loop_frames", sim_config.loop_frames);
-      const auto sim_problems = sim_config.validate();
-      problems.insert(problems.end(), sim_problems.begin(), sim_problems.end());
-    } else {
-      problems.push_back(pnh.resolveName("source") + ": '" + source + "' is not a known source (known: sim)");
-    }
     if (frame_id_.empty()) problems.push_back(pnh.resolveName("frame_id") + ": empty");
-    std::shared_ptr<sim::Renderer> renderer;
-    if (problems.empty()) {
-      try {
-        renderer = std::make_shared<sim::Renderer>(sim::loadSceneFile(scene_path));
-      } catch (const std::invalid_argument& e) {
-        problems.push_back(pnh.resolveName("scene") + ": " + e.what());
-      }
+    if (source == "sim") {
+      initSim(params, problems);
+    } else if (source == "aravis") {
+      initAravis(params, problems);
+    } else {
+      problems.push_back(pnh.resolveName("source") + ": '" + source + "' is not a known source (sim, aravis)");
     }
     if (!problems.empty()) {
       const std::string message = joinProblems("StereoCameraNodelet: invalid configuration", problems);
       NODELET_FATAL_STREAM(message);
       throw std::invalid_argument(message);
+    }
+    image_transport::ImageTransport it(getNodeHandle());
+    left_pub_ = it.advertiseCamera("left/image_raw", 2);
+    right_pub_ = it.advertiseCamera("right/image_raw", 2);
+    if (source == "sim") ground_truth_pub_ = getNodeHandle().advertise<GroundTruth>("ground_truth", 10);
+    source_->start([this](const StereoFrame& frame) { publish(frame); });
+  }
+
+  void initSim(ros_glue::ParamReader& params, std::vector<std::string>& problems) {
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    std::string scene_path;
+    sim::SimSourceConfig sim_config;
+    params.required("scene", scene_path);
+    params.optional("rate_hz", sim_config.rate_hz);
+    params.optional("loop_frames", sim_config.loop_frames);
+    const auto sim_problems = sim_config.validate();
+    problems.insert(problems.end(), sim_problems.begin(), sim_problems.end());
+    if (!problems.empty()) return;
+    std::shared_ptr<sim::Renderer> renderer;
+    try {
+      renderer = std::make_shared<sim::Renderer>(sim::loadSceneFile(scene_path));
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(pnh.resolveName("scene") + ": " + e.what());
+      return;
     }
     calibration_ = renderer->calibration();
     NODELET_INFO_STREAM("StereoCameraNodelet: source=sim scene=" << scene_path << " ("
@@ -64,13 +79,121 @@ class StereoCameraNodelet : public nodelet::Nodelet {
                         << calibration_.left.height << ", baseline " << calibration_.baselineM() << " m, f "
                         << calibration_.focalPx() << " px) rate_hz=" << sim_config.rate_hz
                         << " loop_frames=" << sim_config.loop_frames << " frame_id=" << frame_id_);
-
-    image_transport::ImageTransport it(nh);
-    left_pub_ = it.advertiseCamera("left/image_raw", 2);
-    right_pub_ = it.advertiseCamera("right/image_raw", 2);
-    ground_truth_pub_ = nh.advertise<GroundTruth>("ground_truth", 10);
     source_ = std::make_unique<sim::SimStereoSource>(renderer, sim_config);
-    source_->start([this](const StereoFrame& frame) { publish(frame); });
+  }
+
+  /// Reads <side>/... camera parameters (shared defaults from the private namespace).
+  CameraSettings readCamera(ros_glue::ParamReader& params, const std::string& side) {
+    CameraSettings c;
+    for (const std::string& prefix : {std::string(), side + "/"}) {
+      params.optional(prefix + "pixel_format", c.pixel_format);
+      params.optional(prefix + "exposure_us", c.exposure_us);
+      params.optional(prefix + "exposure_auto_min_us", c.exposure_auto_min_us);
+      params.optional(prefix + "exposure_auto_max_us", c.exposure_auto_max_us);
+      params.optional(prefix + "gain", c.gain);
+      params.optional(prefix + "binning", c.binning);
+      params.optional(prefix + "roi_x", c.roi_x);
+      params.optional(prefix + "roi_y", c.roi_y);
+      params.optional(prefix + "roi_width", c.roi_width);
+      params.optional(prefix + "roi_height", c.roi_height);
+      params.optional(prefix + "packet_size", c.packet_size);
+      params.optional(prefix + "packet_delay_ns", c.packet_delay_ns);
+      params.optional(prefix + "packet_resend", c.packet_resend);
+      params.optional(prefix + "socket_buffer_bytes", c.socket_buffer_bytes);
+      params.optional(prefix + "buffers", c.buffers);
+      params.optional(prefix + "trigger_line", c.trigger_line);
+      params.optional(prefix + "trigger_activation", c.trigger_activation);
+    }
+    params.required(side + "/id", c.id);
+    return c;
+  }
+
+  void initAravis(ros_glue::ParamReader& params, std::vector<std::string>& problems) {
+    AravisStereoConfig config;
+    config.left = readCamera(params, "left");
+    config.right = readCamera(params, "right");
+    std::string sync = "software";
+    params.optional("sync", sync);
+    params.optional("rate_hz", config.rate_hz);
+    params.optional("max_skew_s", config.max_skew_s);
+    params.optional("frame_timeout_s", config.frame_timeout_s);
+    params.optional("max_backoff_s", config.max_backoff_s);
+    try {
+      config.sync = triggerModeFromName(sync);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(getPrivateNodeHandle().resolveName("sync") + ": " + e.what());
+    }
+    const auto config_problems = config.validate();
+    problems.insert(problems.end(), config_problems.begin(), config_problems.end());
+    std::string left_url, right_url;
+    params.optional("left/camera_info_url", left_url);
+    params.optional("right/camera_info_url", right_url);
+    if (!problems.empty()) return;
+    ros::NodeHandle left_nh(getNodeHandle(), "left"), right_nh(getNodeHandle(), "right");
+    left_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(left_nh, "left", left_url);
+    right_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(right_nh, "right", right_url);
+    for (const auto& [side, manager, url] : {std::make_tuple("left", left_info_.get(), left_url),
+                                             std::make_tuple("right", right_info_.get(), right_url)}) {
+      if (!manager->isCalibrated()) {
+        NODELET_WARN_STREAM("StereoCameraNodelet: " << side << " camera not calibrated (camera_info_url '" << url
+                            << "'): its camera_info has zero K and P, the detector will refuse it; calibrate in "
+                               "water (README)");
+      }
+    }
+    auto source = std::make_unique<AravisStereoSource>(config, [this](bool error, const std::string& m) {
+      if (error) {
+        NODELET_ERROR_STREAM_THROTTLE(2.0, "StereoCameraNodelet: " << m);
+      } else {
+        NODELET_INFO_STREAM("StereoCameraNodelet: " << m);
+      }
+    });
+    aravis_ = source.get();
+    source_ = std::move(source);
+    diagnostics_ = std::make_unique<diagnostic_updater::Updater>(getNodeHandle(), getPrivateNodeHandle(), getName());
+    diagnostics_->setHardwareID("underwater_stereo stereo head " + config.left.id + " + " + config.right.id);
+    diagnostics_->add("left camera", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnoseCamera(s, 0); });
+    diagnostics_->add("right camera", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnoseCamera(s, 1); });
+    diagnostics_->add("pairing", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnosePairing(s); });
+    diagnostics_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
+      last_status_ = aravis_->status();
+      diagnostics_->force_update();
+    });
+    NODELET_INFO_STREAM("StereoCameraNodelet: source=aravis left=" << config.left.id << " right=" << config.right.id
+                        << " sync=" << sync << " rate_hz=" << config.rate_hz << " max skew "
+                        << config.effectiveMaxSkewS() * 1e3 << " ms frame_id=" << frame_id_);
+  }
+
+  void diagnoseCamera(diagnostic_updater::DiagnosticStatusWrapper& stat, int side) {
+    const CameraStatus& c = side == 0 ? last_status_.left : last_status_.right;
+    const std::uint64_t previous = last_frames_[side];
+    last_frames_[side] = c.frames;
+    const double fps = static_cast<double>(c.frames - std::min(previous, c.frames));  // per 1 s update
+    if (c.state == "streaming") {
+      stat.summary(fps > 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN,
+                   fps > 0 ? "streaming" : "streaming, no frames in the last second");
+    } else {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, c.state + (c.last_error.empty() ? "" : ": " + c.last_error));
+    }
+    stat.add("camera", c.description);
+    stat.add("state", c.state);
+    stat.add("frame rate [Hz]", fps);
+    stat.add("frames", c.frames);
+    stat.add("missed frames (frame-id gaps)", c.missed_frames);
+    stat.add("outages", c.outages);
+    stat.add("last error", c.last_error.empty() ? std::string("none") : c.last_error);
+    stat.add("completed buffers", c.stream.completed);
+    stat.add("failed (incomplete) buffers", c.stream.failed);
+    stat.add("buffer underruns", c.stream.underruns);
+    stat.add("missing packets", c.stream.missing_packets);
+    stat.add("resent packets", c.stream.resent_packets);
+    if (std::isfinite(c.stream.temperature_c)) stat.add("temperature [C]", c.stream.temperature_c);
+  }
+
+  void diagnosePairing(diagnostic_updater::DiagnosticStatusWrapper& stat) {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "pairing");
+    stat.add("pairs", last_status_.pairs);
+    stat.add("unpaired frames dropped", last_status_.unpaired);
+    stat.add("left/right skew of the last pair [ms]", last_status_.last_skew_ms);
   }
 
   // Both sides carry one header: the same stamp and the left optical frame, as stereo consumers
@@ -78,13 +201,22 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   void publish(const StereoFrame& frame) {
     std_msgs::Header header;
     header.stamp = ros::Time::now();
+    if (frame.capture_time_ns > 0 && !ros::Time::isSimTime()) header.stamp.fromNSec(frame.capture_time_ns);
     header.seq = static_cast<std::uint32_t>(frame.sequence);
     header.frame_id = frame_id_;
-    const auto left_info = boost::make_shared<sensor_msgs::CameraInfo>(ros_glue::toCameraInfo(calibration_.left));
-    const auto right_info = boost::make_shared<sensor_msgs::CameraInfo>(ros_glue::toCameraInfo(calibration_.right));
+    auto left_info = boost::make_shared<sensor_msgs::CameraInfo>(
+        left_info_ ? left_info_->getCameraInfo() : ros_glue::toCameraInfo(calibration_.left));
+    auto right_info = boost::make_shared<sensor_msgs::CameraInfo>(
+        right_info_ ? right_info_->getCameraInfo() : ros_glue::toCameraInfo(calibration_.right));
+    for (auto* info : {left_info.get(), right_info.get()}) {
+      if (info->width == 0) {  // not calibrated: at least the size
+        info->width = static_cast<std::uint32_t>(frame.left.cols);
+        info->height = static_cast<std::uint32_t>(frame.left.rows);
+      }
+    }
     left_info->header = header;
     right_info->header = header;
-    ground_truth_pub_.publish(ros_glue::toGroundTruthMsg(frame.ground_truth, header));
+    if (ground_truth_pub_) ground_truth_pub_.publish(ros_glue::toGroundTruthMsg(frame.ground_truth, header));
     left_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.left).toImageMsg(), left_info);
     right_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.right).toImageMsg(), right_info);
   }
@@ -95,6 +227,13 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   image_transport::CameraPublisher right_pub_;
   ros::Publisher ground_truth_pub_;
   std::unique_ptr<StereoSource> source_;
+  // aravis source only
+  AravisStereoSource* aravis_ = nullptr;
+  std::unique_ptr<camera_info_manager::CameraInfoManager> left_info_, right_info_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  ros::WallTimer diagnostics_timer_;
+  StereoStatus last_status_;
+  std::uint64_t last_frames_[2] = {0, 0};
 };
 
 }  // namespace underwater_stereo

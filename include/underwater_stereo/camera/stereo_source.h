@@ -19,6 +19,8 @@ struct StereoFrame {
   cv::Mat right;
   std::string encoding;         ///< sensor_msgs/image_encodings name: bayer_rggb8, bgr8, rgb8, mono8
   std::uint64_t sequence = 0;   ///< counts pairs delivered by this source, from 0
+  /// Capture time on the host's system clock [ns since the epoch]; 0: not known (the receiver stamps it).
+  std::int64_t capture_time_ns = 0;
   /// Truth about the scene; filled by the simulated source only (empty from real cameras).
   std::vector<sim::GroundTruthObject> ground_truth;
 };

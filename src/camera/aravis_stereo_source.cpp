@@ -1,0 +1,227 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/camera/aravis_stereo_source.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/config/yaml_fields.h"
+
+namespace underwater_stereo {
+
+struct AravisStereoSource::Side {
+  CameraSettings settings;
+  std::mutex mutex;                       ///< guards camera (the trigger thread uses it too) and status
+  std::shared_ptr<AravisCamera> camera;
+  ClockMapper clock;
+  FrameIdTracker ids;
+  CameraStatus status;
+  std::thread thread;
+};
+
+std::vector<std::string> AravisStereoConfig::validate() const {
+  std::vector<std::string> p = left.validate("left");
+  const auto r = right.validate("right");
+  p.insert(p.end(), r.begin(), r.end());
+  if (left.pixel_format != right.pixel_format) p.push_back("left and right pixel_format differ");
+  if (!(rate_hz > 0 && rate_hz <= 200)) p.push_back("rate_hz must be in (0, 200]");
+  if (!(max_skew_s >= 0 && max_skew_s < 1)) p.push_back("max_skew_s must be in [0, 1)");
+  if (!(frame_timeout_s > 0.05 && frame_timeout_s <= 60)) p.push_back("frame_timeout_s must be in (0.05, 60]");
+  if (!(max_backoff_s >= 0.25 && max_backoff_s <= 300)) p.push_back("max_backoff_s must be in [0.25, 300]");
+  if (!left.id.empty() && left.id == right.id) p.push_back("left and right are the same camera '" + left.id + "'");
+  return p;
+}
+
+double AravisStereoConfig::effectiveMaxSkewS() const {
+  if (max_skew_s > 0) return max_skew_s;
+  switch (sync) {
+    case TriggerMode::kHardware: return 0.001;
+    case TriggerMode::kSoftware: return 0.005;
+    case TriggerMode::kFreeRun: break;
+  }
+  return 0.5 / rate_hz;
+}
+
+AravisStereoSource::AravisStereoSource(const AravisStereoConfig& config, Log log)
+    : config_(config), log_(std::move(log)), pairer_(static_cast<std::int64_t>(config.effectiveMaxSkewS() * 1e9)) {
+  const auto problems = config_.validate();
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid stereo camera configuration", problems));
+  for (int s = 0; s < 2; ++s) {
+    sides_[s] = std::make_unique<Side>();
+    sides_[s]->settings = s == 0 ? config_.left : config_.right;
+    sides_[s]->settings.trigger = config_.sync;
+    sides_[s]->settings.frame_rate_hz = config_.rate_hz;
+  }
+}
+
+AravisStereoSource::~AravisStereoSource() { stop(); }
+
+void AravisStereoSource::start(FrameCallback callback) {
+  if (running_) return;
+  callback_ = std::move(callback);
+  running_ = true;
+  for (int s = 0; s < 2; ++s) sides_[s]->thread = std::thread([this, s] { runCamera(s); });
+  if (config_.sync == TriggerMode::kSoftware) trigger_thread_ = std::thread([this] { runTrigger(); });
+}
+
+void AravisStereoSource::stop() {
+  if (!running_) return;
+  running_ = false;
+  if (trigger_thread_.joinable()) trigger_thread_.join();
+  for (auto& side : sides_) {
+    if (side->thread.joinable()) side->thread.join();
+    std::lock_guard<std::mutex> lock(side->mutex);
+    side->camera.reset();
+    side->status.state = "closed";
+  }
+}
+
+StereoStatus AravisStereoSource::status() {
+  StereoStatus out;
+  CameraStatus* targets[2] = {&out.left, &out.right};
+  for (int s = 0; s < 2; ++s) {
+    std::shared_ptr<AravisCamera> camera;
+    {
+      std::lock_guard<std::mutex> lock(sides_[s]->mutex);
+      *targets[s] = sides_[s]->status;
+      camera = sides_[s]->camera;
+    }
+    if (camera) targets[s]->stream = camera->statistics();
+  }
+  std::lock_guard<std::mutex> lock(pair_mutex_);
+  out.pairs = pairer_.pairs();
+  out.unpaired = pairer_.dropped();
+  out.last_skew_ms = last_skew_ms_;
+  return out;
+}
+
+void AravisStereoSource::runCamera(int s) {
+  Side& side = *sides_[s];
+  const std::string name = s == 0 ? "left" : "right";
+  double backoff = 0.25;
+  auto sleepFor = [this](double seconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (running_ && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  };
+  while (running_) {
+    std::shared_ptr<AravisCamera> camera;
+    {
+      std::lock_guard<std::mutex> lock(side.mutex);
+      side.status.state = side.status.outages > 0 ? "reconnecting" : "opening";
+    }
+    try {
+      std::vector<std::string> report;
+      camera = std::make_shared<AravisCamera>(side.settings, report);
+      for (const auto& line : report) log_(false, name + " camera: " + line);
+      camera->start();
+    } catch (const std::runtime_error& e) {
+      {
+        std::lock_guard<std::mutex> lock(side.mutex);
+        side.status.last_error = e.what();
+      }
+      log_(true, name + " camera: " + e.what() + "; retrying in " + std::to_string(backoff) + " s");
+      sleepFor(backoff);
+      backoff = std::min(backoff * 2, config_.max_backoff_s);
+      continue;
+    }
+    backoff = 0.25;
+    {
+      std::lock_guard<std::mutex> lock(side.mutex);
+      side.camera = camera;
+      side.status.description = camera->description();
+      side.status.state = "streaming";
+      side.clock = ClockMapper();
+      side.ids = FrameIdTracker();
+    }
+    {
+      std::lock_guard<std::mutex> lock(pair_mutex_);
+      pairer_.clear();
+    }
+    auto last_frame = std::chrono::steady_clock::now();
+    std::string lost_reason;
+    while (running_) {
+      CameraFrame frame;
+      if (camera->next(frame, 100)) {
+        last_frame = std::chrono::steady_clock::now();
+        std::int64_t capture_ns = 0;
+        {
+          std::lock_guard<std::mutex> lock(side.mutex);
+          ++side.status.frames;
+          side.status.missed_frames += side.ids.missedBefore(frame.frame_id);
+          capture_ns = side.clock.toHost(frame.device_ns, frame.host_ns);
+        }
+        deliver(s, std::move(frame), capture_ns);
+        continue;
+      }
+      if (!camera->connected()) {
+        lost_reason = "control connection lost";
+      } else if (std::chrono::duration<double>(std::chrono::steady_clock::now() - last_frame).count() >
+                 config_.frame_timeout_s) {
+        lost_reason = "no frame for " + std::to_string(config_.frame_timeout_s) + " s";
+      }
+      if (!lost_reason.empty()) break;
+    }
+    {
+      std::lock_guard<std::mutex> lock(side.mutex);
+      side.camera.reset();
+      if (!lost_reason.empty()) {
+        ++side.status.outages;
+        side.status.last_error = lost_reason;
+        side.status.state = "reconnecting";
+      }
+    }
+    if (!lost_reason.empty()) log_(true, name + " camera " + camera->description() + ": " + lost_reason + "; reopening");
+    try {
+      camera->stop();
+    } catch (const std::runtime_error&) {
+      // The camera is gone; closing is all that is left.
+    }
+    camera.reset();
+  }
+}
+
+void AravisStereoSource::runTrigger() {
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / config_.rate_hz));
+  auto next = std::chrono::steady_clock::now() + period;
+  while (running_) {
+    std::this_thread::sleep_until(next);
+    next += period;
+    if (next < std::chrono::steady_clock::now()) next = std::chrono::steady_clock::now() + period;  // fell behind
+    std::shared_ptr<AravisCamera> cameras[2];
+    for (int s = 0; s < 2; ++s) {
+      std::lock_guard<std::mutex> lock(sides_[s]->mutex);
+      cameras[s] = sides_[s]->camera;
+    }
+    if (!cameras[0] || !cameras[1]) continue;  // a pair needs both: do not trigger one alone
+    for (auto& camera : cameras) {
+      try {
+        camera->trigger();
+      } catch (const std::runtime_error&) {
+        // The camera's own thread notices the loss and reopens it.
+      }
+    }
+  }
+}
+
+void AravisStereoSource::deliver(int side, CameraFrame frame, std::int64_t capture_ns) {
+  frame.capture_ns = capture_ns;
+  std::optional<std::pair<CameraFrame, CameraFrame>> pair;
+  StereoFrame out;
+  {
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    pair = pairer_.add(side == 0 ? FramePairer<CameraFrame>::kLeft : FramePairer<CameraFrame>::kRight, capture_ns,
+                       std::move(frame));
+    if (!pair) return;
+    out.sequence = sequence_++;
+    last_skew_ms_ = std::abs(static_cast<double>(pair->first.capture_ns - pair->second.capture_ns)) / 1e6;
+  }
+  out.left = std::move(pair->first.image);
+  out.right = std::move(pair->second.image);
+  out.encoding = pair->first.encoding;
+  out.capture_time_ns = pair->first.capture_ns;  // the left capture; the right one is within the skew
+  if (callback_) callback_(out);
+}
+
+}  // namespace underwater_stereo
