@@ -62,13 +62,11 @@ void AravisStereoSource::start(FrameCallback callback) {
   callback_ = std::move(callback);
   running_ = true;
   for (int s = 0; s < 2; ++s) sides_[s]->thread = std::thread([this, s] { runCamera(s); });
-  if (config_.sync == TriggerMode::kSoftware) trigger_thread_ = std::thread([this] { runTrigger(); });
 }
 
 void AravisStereoSource::stop() {
   if (!running_) return;
   running_ = false;
-  if (trigger_thread_.joinable()) trigger_thread_.join();
   for (auto& side : sides_) {
     if (side->thread.joinable()) side->thread.join();
     std::lock_guard<std::mutex> lock(side->mutex);
@@ -140,9 +138,28 @@ void AravisStereoSource::runCamera(int s) {
     }
     auto last_frame = std::chrono::steady_clock::now();
     std::string lost_reason;
+    // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (ticks of the steady
+    // clock), so a camera that hangs or vanishes never delays the other's trigger.
+    const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(1.0 / config_.rate_hz));
+    auto tick = std::chrono::steady_clock::time_point(
+        (std::chrono::steady_clock::now().time_since_epoch() / period + 1) * period);
     while (running_) {
+      int wait_ms = 100;
+      if (config_.sync == TriggerMode::kSoftware) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now >= tick) {
+          try {
+            camera->trigger();
+          } catch (const std::runtime_error&) {
+            // Unreachable: the frame timeout below notices and reopens it.
+          }
+          while (tick <= now) tick += period;
+        }
+        wait_ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(tick - now).count()) + 1;
+      }
       CameraFrame frame;
-      if (camera->next(frame, 100)) {
+      if (camera->next(frame, std::min(wait_ms, 100))) {
         last_frame = std::chrono::steady_clock::now();
         std::int64_t capture_ns = 0;
         {
@@ -178,30 +195,6 @@ void AravisStereoSource::runCamera(int s) {
       // The camera is gone; closing is all that is left.
     }
     camera.reset();
-  }
-}
-
-void AravisStereoSource::runTrigger() {
-  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(1.0 / config_.rate_hz));
-  auto next = std::chrono::steady_clock::now() + period;
-  while (running_) {
-    std::this_thread::sleep_until(next);
-    next += period;
-    if (next < std::chrono::steady_clock::now()) next = std::chrono::steady_clock::now() + period;  // fell behind
-    std::shared_ptr<AravisCamera> cameras[2];
-    for (int s = 0; s < 2; ++s) {
-      std::lock_guard<std::mutex> lock(sides_[s]->mutex);
-      cameras[s] = sides_[s]->camera;
-    }
-    if (!cameras[0] || !cameras[1]) continue;  // a pair needs both: do not trigger one alone
-    for (auto& camera : cameras) {
-      try {
-        camera->trigger();
-      } catch (const std::runtime_error&) {
-        // The camera's own thread notices the loss and reopens it.
-      }
-    }
   }
 }
 

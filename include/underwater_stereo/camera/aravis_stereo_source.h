@@ -48,8 +48,8 @@ struct StereoStatus {
   double last_skew_ms = 0.0;        ///< capture-time difference of the last pair
 };
 
-/// Runs one thread per camera (opening, reconfiguring after a loss, receiving) and, with software sync, one
-/// that fires TriggerSoftware on both. A camera absent at start is waited for; one that vanishes is reopened
+/// Runs one thread per camera: opening, reconfiguring after a loss, firing TriggerSoftware on the shared
+/// schedule (software sync), receiving. A camera absent at start is waited for; one that vanishes is reopened
 /// with back-off and fully reconfigured while the other keeps streaming. Pairs carry the capture time on the
 /// host clock. Messages (settings read back, errors) go to `log`.
 class AravisStereoSource : public StereoSource {
@@ -66,7 +66,6 @@ class AravisStereoSource : public StereoSource {
  private:
   struct Side;
   void runCamera(int side);
-  void runTrigger();
   void deliver(int side, CameraFrame frame, std::int64_t capture_ns);
 
   AravisStereoConfig config_;
@@ -78,7 +77,6 @@ class AravisStereoSource : public StereoSource {
   std::uint64_t sequence_ = 0;
   double last_skew_ms_ = 0.0;
   std::atomic<bool> running_{false};
-  std::thread trigger_thread_;
 };
 
 }  // namespace underwater_stereo
