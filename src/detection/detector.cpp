@@ -51,15 +51,55 @@ cv::Mat searchedImage(const cv::Mat& bgr, const QualityReport& quality, const De
   return config.colours.grey_world ? greyWorld(out) : out;
 }
 
-FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, StageTimings& t, Stopwatch& watch) {
+cv::Mat scaledDown(const cv::Mat& bgr, double scale) {
+  if (scale >= 1.0) return bgr;
+  cv::Mat small;
+  cv::resize(bgr, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  return small;
+}
+
+/// A candidate found in the frame scaled by `scale`, in full-resolution pixels; its mask is interpolated
+/// (soft edges, 0-255), so its outline keeps sub-pixel information for the silhouette.
+Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
+  if (scale >= 1.0) return c;
+  const double k = 1.0 / scale;
+  for (cv::Point& p : c.contour) {
+    p = cv::Point(static_cast<int>(std::lround((p.x + 0.5) * k - 0.5)), static_cast<int>(std::lround((p.y + 0.5) * k - 0.5)));
+  }
+  const cv::Rect roi = cv::Rect(static_cast<int>(std::lround(c.roi.x * k)), static_cast<int>(std::lround(c.roi.y * k)),
+                                static_cast<int>(std::lround(c.roi.width * k)), static_cast<int>(std::lround(c.roi.height * k))) &
+                       cv::Rect(cv::Point(), full);
+  cv::Mat mask;
+  cv::resize(c.mask, mask, roi.size(), 0, 0, cv::INTER_LINEAR);
+  c.mask = mask;
+  c.roi = roi;
+  c.area_px *= k * k;
+  return c;
+}
+
+/// Mask of all designated colours at full resolution (soft edges), searched in the scaled frame.
+cv::Mat colourMaskOf(const cv::Mat& bgr, const QualityReport& quality, const DetectorConfig& config,
+                     const DetectorConfig& search) {
+  const cv::Mat any = colourMasks(searchedImage(scaledDown(bgr, config.search_scale), quality, config), search.colours).any;
+  if (config.search_scale >= 1.0) return any;
+  cv::Mat full;
+  cv::resize(any, full, bgr.size(), 0, 0, cv::INTER_LINEAR);
+  return full;
+}
+
+FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
+                     Stopwatch& watch) {
   FrontEnd out;
-  out.quality = assessQuality(bgr, config.quality);
+  const cv::Mat small = scaledDown(bgr, config.search_scale);
+  out.quality = assessQuality(small, config.quality);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
-  out.searched = searchedImage(bgr, out.quality, config);
-  const ColourMasks masks = colourMasks(out.searched, config.colours);
+  out.searched = searchedImage(small, out.quality, config);
+  const ColourMasks masks = colourMasks(out.searched, search.colours);
   t.colour_ms = watch.lapMs();
-  out.candidates = findCandidates(out.searched, masks, config.colours.classes, config.candidates);
+  for (Candidate& c : findCandidates(out.searched, masks, config.colours.classes, search.candidates)) {
+    out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, bgr.size()));
+  }
   t.contours_ms = watch.lapMs();
   return out;
 }
@@ -103,13 +143,14 @@ void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibra
 
 }  // namespace
 
-Detector::Detector(const DetectorConfig& config, const StereoCalibration& calibration) : config_(config) {
+Detector::Detector(const DetectorConfig& config, const StereoCalibration& calibration)
+    : config_(config), search_config_(scaledForSearch(config)) {
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   matcher_ = std::make_unique<RoiStereoMatcher>(calibration, config_.stereo);
 }
 
-Detector::Detector(const DetectorConfig& config) : config_(config) {
+Detector::Detector(const DetectorConfig& config) : config_(config), search_config_(scaledForSearch(config)) {
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
 }
@@ -120,7 +161,7 @@ DetectionResult Detector::detect2d(const cv::Mat& bgr) {
   requireBgr8(bgr, "Detector::detect2d");
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(bgr, config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(bgr, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
   for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, bgr, config_));
   result.timings.total_ms = total.lapMs();
@@ -140,7 +181,7 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   }
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(left_bgr, config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(left_bgr, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
@@ -149,7 +190,7 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   cv::Mat left_grey, right_grey;
   cv::cvtColor(left_bgr, left_grey, cv::COLOR_BGR2GRAY);
   cv::cvtColor(right_bgr, right_grey, cv::COLOR_BGR2GRAY);
-  const cv::Mat right_colour = colourMasks(searchedImage(right_bgr, front.quality, config_), config_.colours).any;
+  const cv::Mat right_colour = colourMaskOf(right_bgr, front.quality, config_, search_config_);
   result.timings.colour_ms += watch.lapMs();
   for (const Candidate& c : front.candidates) {
     Stopwatch stage;

@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -38,6 +40,7 @@ std::vector<std::string> DetectorConfig::validate() const {
     p.insert(p.end(), part.begin(), part.end());
   }
   if (min_cluster_points < 3) p.push_back("min_cluster_points must be >= 3");
+  if (!(search_scale >= 0.1 && search_scale <= 1.0)) p.push_back("search_scale must be in [0.1, 1]");
   return p;
 }
 
@@ -46,7 +49,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
   YamlFields f(problems);
   DetectorConfig c;
   f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "stereo", "cluster", "shape",
-                        "min_cluster_points"});
+                        "min_cluster_points", "search_scale"});
   if (!root.IsMap()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   if (const YAML::Node q = root["quality"]) {
     f.onlyKeys(q, "quality.", {"too_dark_below", "too_bright_above", "enhance_below", "dark_pixel_value",
@@ -124,6 +127,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(s, "min_elongation", "shape.", c.shape.min_elongation);
   }
   f.optional(root, "min_cluster_points", "", c.min_cluster_points);
+  f.optional(root, "search_scale", "", c.search_scale);
   // Every value problem too, not only the ones the reading found (a misread field keeps its valid default).
   const auto invalid = c.validate();
   problems.insert(problems.end(), invalid.begin(), invalid.end());
@@ -133,6 +137,21 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
 
 DetectorConfig loadDetectorConfigFile(const std::string& path) {
   return parseYamlFile(path, "detector configuration", parseDetectorConfig);
+}
+
+DetectorConfig scaledForSearch(const DetectorConfig& config) {
+  DetectorConfig s = config;
+  const double k = config.search_scale;
+  if (k >= 1.0) return s;
+  auto scaled = [k](int px) { return px > 1 ? std::max(2, static_cast<int>(std::lround(px * k))) : px; };
+  auto odd = [k](int px) { return px > 1 ? std::max(3, static_cast<int>(std::lround(px * k)) | 1) : px; };
+  s.colours.blur_px = odd(config.colours.blur_px);
+  s.colours.open_kernel_px = scaled(config.colours.open_kernel_px);
+  s.colours.close_kernel_px = scaled(config.colours.close_kernel_px);
+  s.candidates.blur_kernel_px = odd(config.candidates.blur_kernel_px);
+  s.candidates.min_area_px = std::max(1.0, config.candidates.min_area_px * k * k);
+  s.candidates.max_area_px = std::max(s.candidates.min_area_px + 1, config.candidates.max_area_px * k * k);
+  return s;
 }
 
 }  // namespace underwater_stereo

@@ -14,6 +14,8 @@ namespace {
 
 /// Column profiles of the left and right silhouettes must overlap this much (intersection over union).
 constexpr double kMinSilhouetteOverlap = 0.8;
+/// Disparities block matching searches around the silhouette's (an object's depth relief is a few pixels).
+constexpr int kDisparityWindow = 48;
 /// Columns beyond the aligned left silhouette that still count for the right one's centroid.
 constexpr int kSilhouetteSlackPx = 3;
 
@@ -133,16 +135,32 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   }
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
-  const int min_disparity = static_cast<int>(std::floor(d_min));
+  int min_disparity = static_cast<int>(std::floor(d_min));
   int num_disparities = ((static_cast<int>(std::ceil(d_max)) - min_disparity + 15) / 16) * 16;
-
-  // The band: the object's rectified box plus margin, widened to the left by the largest disparity so the
-  // right camera's view of the object is inside the same rectangle.
   const cv::Rect box = rectifiedBox(roi);
-  cv::Rect band(box.x - config_.margin_px - min_disparity - num_disparities, box.y - config_.margin_px,
-                box.width + 2 * config_.margin_px + min_disparity + num_disparities, box.height + 2 * config_.margin_px);
-  band &= cv::Rect(cv::Point(), size);
+  // The band: the object's rectified box plus margin, widened to the left by the largest disparity searched
+  // so the right camera's view of the object is inside the same rectangle.
+  auto bandFor = [&](int min_d, int num_d) {
+    return cv::Rect(box.x - config_.margin_px - min_d - num_d, box.y - config_.margin_px,
+                    box.width + 2 * config_.margin_px + min_d + num_d, box.height + 2 * config_.margin_px) &
+           cv::Rect(cv::Point(), size);
+  };
   RoiPoints out;
+  // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
+  // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
+  if (!right_colour.empty()) {
+    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, bandFor(min_disparity, num_disparities));
+    if (std::isfinite(out.silhouette_disparity) &&
+        (out.silhouette_disparity < d_min || out.silhouette_disparity > d_max)) {
+      out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
+    }
+    if (std::isfinite(out.silhouette_disparity)) {
+      min_disparity = std::max(static_cast<int>(std::floor(d_min)),
+                               static_cast<int>(std::floor(out.silhouette_disparity)) - kDisparityWindow / 2);
+      num_disparities = kDisparityWindow;
+    }
+  }
+  const cv::Rect band = bandFor(min_disparity, num_disparities);
   // Near the left edge the band is clipped: only disparities that fit in it can be searched (SGBM needs
   // width > minDisparity + numDisparities, or it fails to allocate).
   const int fitting = ((band.width - min_disparity - config_.block_size - 1) / 16) * 16;
@@ -160,7 +178,6 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   }
   out.mask_pixels = cv::countNonZero(mask_band);
   if (out.mask_pixels == 0) return out;
-  if (!right_colour.empty()) out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, band);
 
   const int bs = config_.block_size;
   auto sgbm = cv::StereoSGBM::create(min_disparity, num_disparities, bs, 8 * bs * bs, 32 * bs * bs, 1,
@@ -168,11 +185,8 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   cv::Mat disparity16;
   sgbm->compute(left_band, right_band, disparity16);
 
-  if (std::isfinite(out.silhouette_disparity) &&
-      (out.silhouette_disparity < min_disparity || out.silhouette_disparity > min_disparity + num_disparities)) {
-    out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
-  }
-  const int step = std::max(1, static_cast<int>(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points))));
+  // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
+  const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
   const short invalid_below = static_cast<short>(min_disparity * 16);
   for (int v = 0; v < mask_band.rows; ++v) {

@@ -62,6 +62,7 @@ class Detector {
 
  private:
   DetectorConfig config_;
+  DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)
   std::unique_ptr<RoiStereoMatcher> matcher_;
 };
 

@@ -24,7 +24,7 @@ struct StereoMatchConfig {
   int uniqueness_ratio = 5;    ///< SGBM: best cost must beat the second by this percentage
   int margin_px = 12;          ///< context around the ROI for matching
   int erode_px = 3;            ///< shrink the object's mask by this much (disparities at its edge are unreliable)
-  int max_points = 4000;       ///< mask pixels are sampled on a grid to at most this many points
+  int max_points = 1500;       ///< mask pixels are sampled on a grid to at most about this many points
 
   std::vector<std::string> validate() const;
 };
