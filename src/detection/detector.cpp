@@ -187,14 +187,11 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
     result.timings.total_ms = total.lapMs();
     return result;
   }
-  cv::Mat left_grey, right_grey;
-  cv::cvtColor(left_bgr, left_grey, cv::COLOR_BGR2GRAY);
-  cv::cvtColor(right_bgr, right_grey, cv::COLOR_BGR2GRAY);
   const cv::Mat right_colour = colourMaskOf(right_bgr, front.quality, config_, search_config_);
   result.timings.colour_ms += watch.lapMs();
   for (const Candidate& c : front.candidates) {
     Stopwatch stage;
-    const RoiPoints roi_points = matcher_->match(left_grey, right_grey, c.roi, c.mask, right_colour);
+    const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour);
     result.timings.stereo_ms += stage.lapMs();
     const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
     result.timings.cluster_ms += stage.lapMs();

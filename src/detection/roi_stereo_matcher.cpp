@@ -80,6 +80,14 @@ double silhouetteShift(const std::vector<double>& left, const std::vector<double
   return left_moment / left_mass - right_moment / right_mass;
 }
 
+/// A band of a raw frame (grey or BGR) rectified through `map_x`/`map_y`, as grey.
+cv::Mat rectifiedGrey(const cv::Mat& frame, const cv::Mat& map_x, const cv::Mat& map_y) {
+  cv::Mat band;
+  cv::remap(frame, band, map_x, map_y, cv::INTER_LINEAR);
+  if (band.channels() == 3) cv::cvtColor(band, band, cv::COLOR_BGR2GRAY);
+  return band;
+}
+
 }  // namespace
 
 std::vector<std::string> StereoMatchConfig::validate() const {
@@ -123,8 +131,10 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
 RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
                                   const cv::Mat& mask, const cv::Mat& right_colour) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
-  if (left.type() != CV_8UC1 || right.type() != CV_8UC1 || left.size() != size || right.size() != size) {
-    throw std::invalid_argument("RoiStereoMatcher::match: left and right must be CV_8UC1 of the calibrated size " +
+  const bool grey = left.type() == CV_8UC1 && right.type() == CV_8UC1;
+  const bool colour = left.type() == CV_8UC3 && right.type() == CV_8UC3;
+  if (!(grey || colour) || left.size() != size || right.size() != size) {
+    throw std::invalid_argument("RoiStereoMatcher::match: left and right must both be CV_8UC1 or both CV_8UC3 of the calibrated size " +
                                 std::to_string(size.width) + "x" + std::to_string(size.height));
   }
   if (roi.empty() || (roi & cv::Rect(cv::Point(), size)) != roi || mask.type() != CV_8UC1 || mask.size() != roi.size()) {
@@ -160,16 +170,21 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
       num_disparities = kDisparityWindow;
     }
   }
-  const cv::Rect band = bandFor(min_disparity, num_disparities);
+  // Left band: the box plus margin, widened to the left by the window so every object pixel has its whole
+  // search range. Right band: the same rectangle moved left by the window's start, so block matching runs
+  // with disparities 0..num-1 (true disparity = that + min_disparity) over a band min_disparity narrower.
+  cv::Rect band(box.x - config_.margin_px - num_disparities, box.y - config_.margin_px,
+                box.width + 2 * config_.margin_px + num_disparities, box.height + 2 * config_.margin_px);
+  band &= cv::Rect(min_disparity, 0, size.width - min_disparity, size.height);
+  const cv::Rect right_rect = band - cv::Point(min_disparity, 0);
   // Near the left edge the band is clipped: only disparities that fit in it can be searched (SGBM needs
-  // width > minDisparity + numDisparities, or it fails to allocate).
-  const int fitting = ((band.width - min_disparity - config_.block_size - 1) / 16) * 16;
-  num_disparities = std::min(num_disparities, fitting);
+  // width > numDisparities, or it fails to allocate).
+  num_disparities = std::min(num_disparities, ((band.width - config_.block_size - 1) / 16) * 16);
   if (num_disparities < 16 || band.height < config_.block_size) return out;
 
-  cv::Mat left_band, right_band, mask_band;
-  cv::remap(left, left_band, left_map_x_(band), left_map_y_(band), cv::INTER_LINEAR);
-  cv::remap(right, right_band, right_map_x_(band), right_map_y_(band), cv::INTER_LINEAR);
+  cv::Mat left_band = rectifiedGrey(left, left_map_x_(band), left_map_y_(band));
+  cv::Mat right_band = rectifiedGrey(right, right_map_x_(right_rect), right_map_y_(right_rect));
+  cv::Mat mask_band;
   cv::Mat mask_map_x = left_map_x_(band) - roi.x, mask_map_y = left_map_y_(band) - roi.y;
   cv::remap(mask, mask_band, mask_map_x, mask_map_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
   if (config_.erode_px > 0) {
@@ -180,21 +195,20 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   if (out.mask_pixels == 0) return out;
 
   const int bs = config_.block_size;
-  auto sgbm = cv::StereoSGBM::create(min_disparity, num_disparities, bs, 8 * bs * bs, 32 * bs * bs, 1,
-                                     0, config_.uniqueness_ratio, 0, 0, cv::StereoSGBM::MODE_SGBM_3WAY);
+  auto sgbm = cv::StereoSGBM::create(0, num_disparities, bs, 8 * bs * bs, 32 * bs * bs, 1, 0, config_.uniqueness_ratio,
+                                     0, 0, cv::StereoSGBM::MODE_SGBM_3WAY);
   cv::Mat disparity16;
   sgbm->compute(left_band, right_band, disparity16);
 
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
-  const short invalid_below = static_cast<short>(min_disparity * 16);
   for (int v = 0; v < mask_band.rows; ++v) {
     const auto* m = mask_band.ptr<std::uint8_t>(v);
     const auto* d = disparity16.ptr<short>(v);
     for (int u = 0; u < mask_band.cols; ++u) {
-      if (!m[u] || d[u] < invalid_below) continue;
-      const double disparity = d[u] / 16.0;
+      if (!m[u] || d[u] < 0) continue;  // SGBM marks unmatched pixels with -16
+      const double disparity = d[u] / 16.0 + min_disparity;
       const double z = f * baseline / disparity;
       if (z < config_.min_depth_m || z > config_.max_depth_m) continue;
       ++out.matched_pixels;

@@ -48,7 +48,8 @@ class RoiStereoMatcher {
   RoiStereoMatcher(const StereoCalibration& calibration, const StereoMatchConfig& config);
 
   /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
-  /// `left`/`right` are raw (distorted) CV_8UC1 frames of the calibrated size. `right_colour` (optional:
+  /// `left`/`right` are raw (distorted) frames of the calibrated size, both CV_8UC1 or both CV_8UC3 (BGR:
+  /// only the bands are converted to grey). `right_colour` (optional:
   /// empty to skip) is the raw right frame's mask of the designated colours, full size, for the silhouette
   /// disparity.
   /// @throw std::invalid_argument on wrong types or sizes, or an roi outside the image.
