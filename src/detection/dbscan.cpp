@@ -6,6 +6,9 @@
 #include <pcl/point_types.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 namespace underwater_stereo {
 
@@ -16,44 +19,92 @@ std::vector<std::string> ClusterConfig::validate() const {
   return p;
 }
 
+namespace {
+
+/// Points merged into cubic cells: centroid and the indices of the points in it.
+struct Voxel {
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  std::vector<int> members;
+};
+
+std::vector<Voxel> voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
+  std::unordered_map<std::int64_t, int> index;
+  std::vector<Voxel> voxels;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f& p = points[i];
+    if (!p.allFinite()) continue;
+    const auto key = [&](float v) { return static_cast<std::int64_t>(std::floor(v / cell)) & 0x1FFFFF; };
+    const std::int64_t k = key(p.x()) | (key(p.y()) << 21) | (key(p.z()) << 42);
+    const auto [it, added] = index.emplace(k, static_cast<int>(voxels.size()));
+    if (added) voxels.emplace_back();
+    Voxel& v = voxels[it->second];
+    v.centroid += p;
+    v.members.push_back(static_cast<int>(i));
+  }
+  for (Voxel& v : voxels) v.centroid /= static_cast<float>(v.members.size());
+  return voxels;
+}
+
+}  // namespace
+
 std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points, const ClusterConfig& config) {
   std::vector<std::vector<int>> clusters;
   if (points.empty()) return clusters;
+  // DBSCAN over cells half of eps wide, each weighted by its points: on dense stereo surfaces every
+  // point has hundreds of neighbours, cells a handful; the result differs from point-wise DBSCAN only by
+  // the cell size.
+  const std::vector<Voxel> voxels = voxelize(points, static_cast<float>(config.eps_m / 2));
+  if (voxels.empty()) return clusters;
   auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  cloud->reserve(points.size());
-  for (const auto& p : points) cloud->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  cloud->reserve(voxels.size());
+  for (const Voxel& v : voxels) cloud->push_back(pcl::PointXYZ(v.centroid.x(), v.centroid.y(), v.centroid.z()));
   pcl::KdTreeFLANN<pcl::PointXYZ> tree;
   tree.setInputCloud(cloud);
 
   constexpr int kUnvisited = -2, kNoise = -1;
-  std::vector<int> label(points.size(), kUnvisited);
+  std::vector<int> label(voxels.size(), kUnvisited);
   std::vector<int> neighbours, seeds;
   std::vector<float> distances;
   const auto radius = static_cast<float>(config.eps_m);
-  for (std::size_t i = 0; i < points.size(); ++i) {
+  auto isCore = [&](int v) {
+    tree.radiusSearch(cloud->points[v], radius, neighbours, distances);
+    std::size_t weight = 0;
+    for (const int n : neighbours) weight += voxels[n].members.size();
+    return weight >= static_cast<std::size_t>(config.min_points);
+  };
+  std::vector<std::vector<int>> voxel_clusters;
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
     if (label[i] != kUnvisited) continue;
-    if (tree.radiusSearch(cloud->points[i], radius, neighbours, distances) < config.min_points) {
+    if (!isCore(static_cast<int>(i))) {
       label[i] = kNoise;
       continue;
     }
-    const int id = static_cast<int>(clusters.size());
-    clusters.emplace_back();
+    const int id = static_cast<int>(voxel_clusters.size());
+    voxel_clusters.emplace_back(1, static_cast<int>(i));
     label[i] = id;
-    clusters.back().push_back(static_cast<int>(i));
-    seeds = neighbours;
+    // Each cell joins (and is queued) once: labelled when first reached, expanded only if it is a core.
+    auto absorb = [&](const std::vector<int>& around) {
+      for (const int j : around) {
+        if (label[j] == kNoise) {  // border cell: joins, is not expanded
+          label[j] = id;
+          voxel_clusters[id].push_back(j);
+        } else if (label[j] == kUnvisited) {
+          label[j] = id;
+          voxel_clusters[id].push_back(j);
+          seeds.push_back(j);
+        }
+      }
+    };
+    seeds.clear();
+    absorb(neighbours);
     for (std::size_t k = 0; k < seeds.size(); ++k) {
-      const int j = seeds[k];
-      if (label[j] == kNoise) {  // border point
-        label[j] = id;
-        clusters.back().push_back(j);
-      }
-      if (label[j] != kUnvisited) continue;
-      label[j] = id;
-      clusters.back().push_back(j);
-      if (tree.radiusSearch(cloud->points[j], radius, neighbours, distances) >= config.min_points) {
-        seeds.insert(seeds.end(), neighbours.begin(), neighbours.end());
-      }
+      if (isCore(seeds[k])) absorb(neighbours);
     }
+  }
+  for (const auto& vc : voxel_clusters) {
+    clusters.emplace_back();
+    for (const int v : vc) clusters.back().insert(clusters.back().end(), voxels[v].members.begin(), voxels[v].members.end());
+    std::sort(clusters.back().begin(), clusters.back().end());
   }
   std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
   return clusters;

@@ -16,7 +16,9 @@ struct ClusterConfig {
   std::vector<std::string> validate() const;
 };
 
-/// Clusters of `points` as index lists, largest first; points in no cluster (noise) are left out.
+/// Clusters of `points` as index lists, largest first; points in no cluster (noise) and non-finite points
+/// are left out. DBSCAN runs over cubic cells eps/2 wide weighted by their points (a cell is core when the
+/// cells within eps hold min_points points), which on dense stereo surfaces is far cheaper than point-wise.
 std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points, const ClusterConfig& config);
 
 }  // namespace underwater_stereo
