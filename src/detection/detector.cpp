@@ -2,10 +2,13 @@
 #include "underwater_stereo/detection/detector.h"
 
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <future>
+#include <optional>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -168,6 +171,33 @@ DetectionResult Detector::detect2d(const cv::Mat& bgr) {
   return result;
 }
 
+std::optional<Detection> Detector::measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
+                                           const cv::Mat& right_colour, StageTimings& t) const {
+  const CameraCalibration& cal = matcher_->calibration().left;
+  Stopwatch stage;
+  const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour);
+  t.stereo_ms += stage.lapMs();
+  const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
+  t.cluster_ms += stage.lapMs();
+  if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) return std::nullopt;
+  Detection d = describe2d(c, left_bgr, config_);
+  for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
+  ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
+  placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
+  t.fit_ms += stage.lapMs();
+  if (!fit.centre.allFinite() || !fit.size.allFinite()) return std::nullopt;  // never report NaN
+  d.shape = fit.shape;
+  d.position_m = fit.centre;
+  d.orientation = fit.orientation;
+  d.size_m = fit.size;
+  d.range_m = fit.centre.norm();
+  d.fit_rmse_m = fit.rmse_m;
+  const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
+  // Stereo noise grows with range: the fit residual is judged against 1 % of it.
+  d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
+  return d;
+}
+
 DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_bgr) {
   if (!matcher_) throw std::invalid_argument("Detector::detect: built without calibration (2D only)");
   requireBgr8(left_bgr, "Detector::detect (left)");
@@ -181,37 +211,31 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   }
   DetectionResult result;
   Stopwatch watch, total;
+  // The right frame's colour mask (for the silhouettes) on the second core while this one searches the left.
+  auto right_colour_job = std::async(std::launch::async, [&] {
+    const QualityReport right_quality = assessQuality(scaledDown(right_bgr, config_.search_scale), config_.quality);
+    return colourMaskOf(right_bgr, right_quality, config_, search_config_);
+  });
   const FrontEnd front = runFrontEnd(left_bgr, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
+  const cv::Mat right_colour = right_colour_job.get();
+  result.timings.colour_ms += watch.lapMs();
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
     return result;
   }
-  const cv::Mat right_colour = colourMaskOf(right_bgr, front.quality, config_, search_config_);
-  result.timings.colour_ms += watch.lapMs();
-  for (const Candidate& c : front.candidates) {
-    Stopwatch stage;
-    const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour);
-    result.timings.stereo_ms += stage.lapMs();
-    const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
-    result.timings.cluster_ms += stage.lapMs();
-    if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) continue;
-    Detection d = describe2d(c, left_bgr, config_);
-    for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
-    ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
-    placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
-    result.timings.fit_ms += stage.lapMs();
-    if (!fit.centre.allFinite() || !fit.size.allFinite()) continue;  // never report NaN
-    d.shape = fit.shape;
-    d.position_m = fit.centre;
-    d.orientation = fit.orientation;
-    d.size_m = fit.size;
-    d.range_m = fit.centre.norm();
-    d.fit_rmse_m = fit.rmse_m;
-    const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
-    // Stereo noise grows with range: the fit residual is judged against 1 % of it.
-    d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
-    result.objects.push_back(std::move(d));
+  // Objects are independent: measured in parallel (stage times are summed over them).
+  const int n = static_cast<int>(front.candidates.size());
+  std::vector<std::optional<Detection>> found(n);
+  std::vector<StageTimings> times(n);
+  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k) found[k] = measure(front.candidates[k], left_bgr, right_bgr, right_colour, times[k]);
+  });
+  for (int k = 0; k < n; ++k) {
+    result.timings.stereo_ms += times[k].stereo_ms;
+    result.timings.cluster_ms += times[k].cluster_ms;
+    result.timings.fit_ms += times[k].fit_ms;
+    if (found[k]) result.objects.push_back(std::move(*found[k]));
   }
   result.timings.total_ms = total.lapMs();
   return result;

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,8 @@ struct Detection {
   double fit_rmse_m = 0.0;
 };
 
-/// Wall time per stage of the last call [ms].
+/// Time per stage of the last call [ms]; stereo, cluster and fit are summed over objects (measured in
+/// parallel), so they can add up to more than total_ms.
 struct StageTimings {
   double quality_ms = 0, colour_ms = 0, contours_ms = 0, stereo_ms = 0, cluster_ms = 0, fit_ms = 0, total_ms = 0;
 };
@@ -61,6 +63,10 @@ class Detector {
   const DetectorConfig& config() const { return config_; }
 
  private:
+  /// Stereo, clustering and shape of one candidate (thread-safe: reads only).
+  std::optional<Detection> measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
+                                   const cv::Mat& right_colour, StageTimings& t) const;
+
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)
   std::unique_ptr<RoiStereoMatcher> matcher_;
