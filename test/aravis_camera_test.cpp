@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // AravisCamera against Aravis' fake GigE Vision camera, run inside this process on 127.0.0.1: the real
 // GVCP/GVSP path over UDP, no hardware.
-#include <arv.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <thread>
 
+#include "fake_gv_camera.h"
 #include "underwater_stereo/camera/aravis_camera.h"
 
 using namespace underwater_stereo;
@@ -14,15 +14,9 @@ using namespace underwater_stereo;
 namespace {
 
 /// One in-process fake camera on 127.0.0.1 for the test's lifetime.
-class FakeCamera {
+class FakeCamera : public test::FakeGvCamera {
  public:
-  explicit FakeCamera(const char* serial) : fake_(arv_gv_fake_camera_new("127.0.0.1", serial)) {}
-  ~FakeCamera() { g_object_unref(fake_); }
-  bool running() const { return arv_gv_fake_camera_is_running(fake_); }
-  void loseGvspPackets(double ratio) { g_object_set(fake_, "gvsp-lost-ratio", ratio, nullptr); }
-
- private:
-  ArvGvFakeCamera* fake_;
+  explicit FakeCamera(const char* serial) : FakeGvCamera("127.0.0.1", serial) {}
 };
 
 CameraSettings fakeSettings() {

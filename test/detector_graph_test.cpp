@@ -15,6 +15,7 @@
 #include <map>
 #include <mutex>
 
+#include "ros_test_helpers.h"
 #include "underwater_stereo/DetectedObjectArray.h"
 #include "underwater_stereo/GroundTruth.h"
 #include "underwater_stereo/detection/detector.h"
@@ -22,6 +23,7 @@
 #include "underwater_stereo/sim/renderer.h"
 
 using namespace underwater_stereo;
+using underwater_stereo::test::waitFor;
 
 namespace {
 
@@ -60,15 +62,6 @@ struct Listener {
   std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics;
   ros::Subscriber objects_sub, truth_sub, markers_sub, diagnostics_sub;
 };
-
-bool waitFor(const std::function<bool()>& done, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (done()) return true;
-    ros::WallDuration(0.05).sleep();
-  }
-  return done();
-}
 
 /// Checks one objects message against its ground truth; returns the number of objects checked.
 int expectMatchesTruth(const DetectedObjectArray& found, const GroundTruth& truth) {

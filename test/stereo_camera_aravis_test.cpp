@@ -2,7 +2,6 @@
 // The StereoCameraNodelet on the real Aravis GigE path: this test runs two of Aravis' fake GigE Vision
 // cameras in its own process on 127.0.0.1 and 127.0.0.2 (created after the nodelet started, so it must wait
 // for them), checks the pairs, then takes the right camera away and brings it back, and loses packets.
-#include <arv.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -13,18 +12,13 @@
 #include <map>
 #include <mutex>
 
+#include "fake_gv_camera.h"
+#include "ros_test_helpers.h"
+
 namespace {
 
-class FakeCamera {
- public:
-  FakeCamera(const char* address, const char* serial) : fake_(arv_gv_fake_camera_new(address, serial)) {}
-  ~FakeCamera() { g_object_unref(fake_); }
-  bool running() const { return arv_gv_fake_camera_is_running(fake_); }
-  void loseGvspPackets(double ratio) { g_object_set(fake_, "gvsp-lost-ratio", ratio, nullptr); }
-
- private:
-  ArvGvFakeCamera* fake_;
-};
+using FakeCamera = underwater_stereo::test::FakeGvCamera;
+using underwater_stereo::test::waitFor;
 
 struct Received {
   std::mutex mutex;
@@ -52,15 +46,6 @@ std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string&
     if (kv.key == key) return kv.value;
   }
   return "";
-}
-
-bool waitFor(const std::function<bool()>& done, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    if (done()) return true;
-    ros::WallDuration(0.05).sleep();
-  }
-  return done();
 }
 
 }  // namespace

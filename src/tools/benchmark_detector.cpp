@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/detector.h"
+#include "tool_helpers.h"
 #include "underwater_stereo/sim/renderer.h"
 
 namespace {
@@ -27,22 +28,9 @@ const char* kUsage =
     "  pairs/s); --csv writes one row per timed pair (scene, frame, objects, mean range, stage times);\n"
     "  --summary ends with one line over all pairs: median_ms=.. p99_ms=.. pairs_per_s=..\n";
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
-}
-
 struct Pair {
   cv::Mat left, right;
 };
-
-cv::Mat toBgr(const cv::Mat& raw, const std::string& encoding) {
-  if (encoding == "bgr8") return raw;
-  cv::Mat bgr;
-  cv::cvtColor(raw, bgr, cv::COLOR_BayerBG2BGR);  // what cv_bridge does for bayer_rggb8
-  return bgr;
-}
 
 }  // namespace
 
@@ -94,7 +82,7 @@ int main(int argc, char** argv) {
       std::vector<Pair> pairs;
       for (int k = 0; k < frames; ++k) {
         const sim::RenderedPair r = renderer.render(k / rate, k);
-        pairs.push_back({toBgr(r.left, r.encoding), toBgr(r.right, r.encoding)});
+        pairs.push_back({tools::toBgr(r.left, r.encoding), tools::toBgr(r.right, r.encoding)});
       }
       Detector detector(config, renderer.calibration());
       for (const Pair& p : pairs) detector.detect(p.left, p.right);  // warm-up: maps, allocations
@@ -124,8 +112,8 @@ int main(int argc, char** argv) {
       mean_total /= n;
       std::cout << "| " << path.substr(path.find_last_of('/') + 1) << " | " << stage[6].size() << " | "
                 << std::fixed << std::setprecision(1) << objects / n;
-      for (int s = 0; s < 6; ++s) std::cout << " | " << std::setprecision(1) << percentile(stage[s], 0.5);
-      std::cout << " | " << percentile(stage[6], 0.5) << " | " << percentile(stage[6], 0.99) << " | "
+      for (int s = 0; s < 6; ++s) std::cout << " | " << std::setprecision(1) << tools::percentile(stage[s], 0.5);
+      std::cout << " | " << tools::percentile(stage[6], 0.5) << " | " << tools::percentile(stage[6], 0.99) << " | "
                 << std::setprecision(1) << 1000.0 / mean_total << " |\n";
     }
   } catch (const std::exception& e) {
@@ -136,8 +124,8 @@ int main(int argc, char** argv) {
     double mean = 0;
     for (double v : all_totals) mean += v;
     mean /= static_cast<double>(all_totals.size());
-    std::cout << "\nmedian_ms=" << std::setprecision(1) << percentile(all_totals, 0.5)
-              << " p99_ms=" << percentile(all_totals, 0.99) << " pairs_per_s=" << 1000.0 / mean << "\n";
+    std::cout << "\nmedian_ms=" << std::setprecision(1) << tools::percentile(all_totals, 0.5)
+              << " p99_ms=" << tools::percentile(all_totals, 0.99) << " pairs_per_s=" << 1000.0 / mean << "\n";
   }
   return 0;
 }

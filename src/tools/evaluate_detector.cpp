@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/detector.h"
+#include "tool_helpers.h"
 #include "underwater_stereo/sim/renderer.h"
 
 namespace {
@@ -29,12 +30,6 @@ struct Stats {
   std::vector<double> range_err, position_err, size_err_near;  // relative
   std::vector<double> ms;
 };
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
-}
 
 double sizeError(const sim::GroundTruthObject& gt, const Detection& d) {
   auto rel = [](double a, double b) { return std::abs(a - b) / b; };
@@ -107,10 +102,10 @@ void printRow(const std::string& name, const Stats& s) {
   std::cout << "| " << name << " | " << s.frames << " | " << s.eligible << " | " << std::fixed << std::setprecision(1)
             << (s.eligible ? 100.0 * s.found / s.eligible : NAN) << " | " << std::setprecision(2)
             << (s.frames ? double(s.false_detections) / s.frames : NAN) << " | " << std::setprecision(2)
-            << 100 * percentile(s.range_err, 0.5) << " | " << 100 * percentile(s.range_err, 0.95) << " | "
-            << 100 * percentile(s.position_err, 0.95) << " | " << 100 * percentile(s.size_err_near, 0.5) << " | "
+            << 100 * tools::percentile(s.range_err, 0.5) << " | " << 100 * tools::percentile(s.range_err, 0.95) << " | "
+            << 100 * tools::percentile(s.position_err, 0.95) << " | " << 100 * tools::percentile(s.size_err_near, 0.5) << " | "
             << std::setprecision(1) << (s.shape_eligible ? 100.0 * s.shape_correct / s.shape_eligible : NAN) << " | "
-            << percentile(s.ms, 0.5) << " |\n";
+            << tools::percentile(s.ms, 0.5) << " |\n";
 }
 
 void merge(Stats& into, const Stats& s) {
@@ -168,12 +163,9 @@ int main(int argc, char** argv) {
       Stats s;
       for (int k = 0; k < frames; ++k) {
         const sim::RenderedPair pair = renderer.render(k / rate, static_cast<std::uint64_t>(k));
-        cv::Mat left = pair.left, right = pair.right;
-        if (pair.encoding == "bayer_rggb8") {
-          cv::cvtColor(pair.left, left, cv::COLOR_BayerBG2BGR);
-          cv::cvtColor(pair.right, right, cv::COLOR_BayerBG2BGR);
-        }
-        accumulate(s, pair.ground_truth, detector.detect(left, right), designated);
+        accumulate(s, pair.ground_truth,
+                   detector.detect(tools::toBgr(pair.left, pair.encoding), tools::toBgr(pair.right, pair.encoding)),
+                   designated);
       }
       std::string name = path.substr(path.find_last_of('/') + 1);
       printRow(name, s);
