@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -224,12 +225,20 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
     result.timings.total_ms = total.lapMs();
     return result;
   }
-  // Objects are independent: measured in parallel (stage times are summed over them).
+  // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
+  // small ones fill in behind it on the other core.
   const int n = static_cast<int>(front.candidates.size());
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return front.candidates[a].roi.area() > front.candidates[b].roi.area(); });
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
   cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
-    for (int k = range.start; k < range.end; ++k) found[k] = measure(front.candidates[k], left_bgr, right_bgr, right_colour, times[k]);
+    for (int i = range.start; i < range.end; ++i) {
+      const int k = order[i];
+      found[k] = measure(front.candidates[k], left_bgr, right_bgr, right_colour, times[k]);
+    }
   });
   for (int k = 0; k < n; ++k) {
     result.timings.stereo_ms += times[k].stereo_ms;

@@ -14,8 +14,9 @@ namespace {
 
 /// Column profiles of the left and right silhouettes must overlap this much (intersection over union).
 constexpr double kMinSilhouetteOverlap = 0.8;
-/// Disparities block matching searches around the silhouette's (an object's depth relief is a few pixels).
-constexpr int kDisparityWindow = 48;
+/// Disparities block matching searches beyond the object's expected relief on either side (the silhouette's
+/// sub-pixel error, stereo noise).
+constexpr int kDisparitySlack = 4;
 /// Columns beyond the aligned left silhouette that still count for the right one's centroid.
 constexpr int kSilhouetteSlackPx = 3;
 
@@ -23,9 +24,18 @@ cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
   return cv::Matx33d(c.P(0, 0), c.P(0, 1), c.P(0, 2), c.P(1, 0), c.P(1, 1), c.P(1, 2), 0, 0, 1);
 }
 
-void buildMaps(const CameraCalibration& c, cv::Mat& map_x, cv::Mat& map_y) {
+/// Fixed-point maps (integer pixel + 1/32 pixel interpolation index): remap runs about twice as fast as
+/// with float maps, and 1/32 px is far below the silhouette's and block matching's precision.
+void buildMaps(const CameraCalibration& c, cv::Mat& map_xy, cv::Mat& map_fraction) {
   cv::initUndistortRectifyMap(cv::Mat(c.K), cv::Mat(c.D), cv::Mat(c.R), cv::Mat(rectifiedIntrinsics(c)),
-                              cv::Size(c.width, c.height), CV_32FC1, map_x, map_y);
+                              cv::Size(c.width, c.height), CV_16SC2, map_xy, map_fraction);
+}
+
+/// The maps of `band`, shifted to sample an image whose origin is at `origin` of the raw frame.
+void remapBand(const cv::Mat& image, cv::Mat& out, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band,
+               const cv::Point& origin, int interpolation) {
+  const cv::Mat xy = origin == cv::Point() ? map_xy(band) : cv::Mat(map_xy(band) - cv::Scalar(origin.x, origin.y));
+  cv::remap(image, out, xy, map_fraction(band), interpolation, cv::BORDER_CONSTANT, 0);
 }
 
 /// Column sums of a mask band (0-255 values, soft edges from bilinear rectification) over the rows `rows`.
@@ -80,12 +90,12 @@ double silhouetteShift(const std::vector<double>& left, const std::vector<double
   return left_moment / left_mass - right_moment / right_mass;
 }
 
-/// A band of a raw frame (grey or BGR) rectified through `map_x`/`map_y`, as grey.
-cv::Mat rectifiedGrey(const cv::Mat& frame, const cv::Mat& map_x, const cv::Mat& map_y) {
-  cv::Mat band;
-  cv::remap(frame, band, map_x, map_y, cv::INTER_LINEAR);
-  if (band.channels() == 3) cv::cvtColor(band, band, cv::COLOR_BGR2GRAY);
-  return band;
+/// `band` of a raw frame (grey or BGR) rectified through the maps, as grey.
+cv::Mat rectifiedGrey(const cv::Mat& frame, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band) {
+  cv::Mat out;
+  remapBand(frame, out, map_xy, map_fraction, band, cv::Point(), cv::INTER_LINEAR);
+  if (out.channels() == 3) cv::cvtColor(out, out, cv::COLOR_BGR2GRAY);
+  return out;
 }
 
 }  // namespace
@@ -110,8 +120,8 @@ RoiStereoMatcher::RoiStereoMatcher(const StereoCalibration& calibration, const S
   const auto config_problems = config_.validate();
   problems.insert(problems.end(), config_problems.begin(), config_problems.end());
   if (!problems.empty()) throw std::invalid_argument(joinProblems("RoiStereoMatcher", problems));
-  buildMaps(calibration_.left, left_map_x_, left_map_y_);
-  buildMaps(calibration_.right, right_map_x_, right_map_y_);
+  buildMaps(calibration_.left, left_map_xy_, left_map_fraction_);
+  buildMaps(calibration_.right, right_map_xy_, right_map_fraction_);
   left_r_transposed_ = calibration_.left.R.t();
 }
 
@@ -165,9 +175,13 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
       out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
     }
     if (std::isfinite(out.silhouette_disparity)) {
+      // A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its
+      // surface lies up to relief = d * (extent / 2) / f pixels of disparity in front of the outline (a
+      // sphere's rim), or about relief / 2 either side of the outline's shift (a tilted panel).
+      const double relief = out.silhouette_disparity * 0.5 * std::max(box.width, box.height) / f;
       min_disparity = std::max(static_cast<int>(std::floor(d_min)),
-                               static_cast<int>(std::floor(out.silhouette_disparity)) - kDisparityWindow / 2);
-      num_disparities = kDisparityWindow;
+                               static_cast<int>(std::floor(out.silhouette_disparity - 0.5 * relief)) - kDisparitySlack);
+      num_disparities = ((static_cast<int>(std::ceil(1.5 * relief)) + 2 * kDisparitySlack + 15) / 16) * 16;
     }
   }
   // Left band: the box plus margin, widened to the left by the window so every object pixel has its whole
@@ -182,11 +196,10 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   num_disparities = std::min(num_disparities, ((band.width - config_.block_size - 1) / 16) * 16);
   if (num_disparities < 16 || band.height < config_.block_size) return out;
 
-  cv::Mat left_band = rectifiedGrey(left, left_map_x_(band), left_map_y_(band));
-  cv::Mat right_band = rectifiedGrey(right, right_map_x_(right_rect), right_map_y_(right_rect));
+  cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band);
+  cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, right_rect);
   cv::Mat mask_band;
-  cv::Mat mask_map_x = left_map_x_(band) - roi.x, mask_map_y = left_map_y_(band) - roi.y;
-  cv::remap(mask, mask_band, mask_map_x, mask_map_y, cv::INTER_NEAREST, cv::BORDER_CONSTANT, 0);
+  remapBand(mask, mask_band, left_map_xy_, left_map_fraction_, band, roi.tl(), cv::INTER_NEAREST);
   if (config_.erode_px > 0) {
     cv::erode(mask_band, mask_band,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
@@ -225,9 +238,8 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
                                              const cv::Rect& band) const {
   // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.
   cv::Mat left_band, right_band;
-  cv::remap(mask, left_band, left_map_x_(band) - roi.x, left_map_y_(band) - roi.y, cv::INTER_LINEAR,
-            cv::BORDER_CONSTANT, 0);
-  cv::remap(right_colour, right_band, right_map_x_(band), right_map_y_(band), cv::INTER_LINEAR, cv::BORDER_CONSTANT, 0);
+  remapBand(mask, left_band, left_map_xy_, left_map_fraction_, band, roi.tl(), cv::INTER_LINEAR);
+  remapBand(right_colour, right_band, right_map_xy_, right_map_fraction_, band, cv::Point(), cv::INTER_LINEAR);
   cv::Mat rows;
   cv::reduce(left_band, rows, 1, cv::REDUCE_MAX);
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();

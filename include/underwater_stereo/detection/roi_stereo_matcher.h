@@ -67,7 +67,8 @@ class RoiStereoMatcher {
 
   StereoCalibration calibration_;
   StereoMatchConfig config_;
-  cv::Mat left_map_x_, left_map_y_, right_map_x_, right_map_y_;  ///< CV_32FC1, rectified -> raw pixel
+  /// Rectified -> raw pixel, fixed point: CV_16SC2 integer pixel and CV_16UC1 interpolation index.
+  cv::Mat left_map_xy_, left_map_fraction_, right_map_xy_, right_map_fraction_;
   cv::Matx33d left_r_transposed_;                                 ///< rectified -> raw left frame
 };
 
