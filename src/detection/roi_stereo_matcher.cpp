@@ -19,6 +19,8 @@ constexpr double kMinSilhouetteOverlap = 0.8;
 constexpr int kDisparitySlack = 4;
 /// Columns beyond the aligned left silhouette that still count for the right one's centroid.
 constexpr int kSilhouetteSlackPx = 3;
+/// The silhouette's whole-pixel shift is searched on every this many rows.
+constexpr int kCoarseRowStep = 4;
 
 cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
   return cv::Matx33d(c.P(0, 0), c.P(0, 1), c.P(0, 2), c.P(1, 0), c.P(1, 1), c.P(1, 2), 0, 0, 1);
@@ -31,11 +33,11 @@ void buildMaps(const CameraCalibration& c, cv::Mat& map_xy, cv::Mat& map_fractio
                               cv::Size(c.width, c.height), CV_16SC2, map_xy, map_fraction);
 }
 
-/// The maps of `band`, shifted to sample an image whose origin is at `origin` of the raw frame.
-void remapBand(const cv::Mat& image, cv::Mat& out, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band,
-               const cv::Point& origin, int interpolation) {
-  const cv::Mat xy = origin == cv::Point() ? map_xy(band) : cv::Mat(map_xy(band) - cv::Scalar(origin.x, origin.y));
-  cv::remap(image, out, xy, map_fraction(band), interpolation, cv::BORDER_CONSTANT, 0);
+/// Remaps `image` (whose origin is at `origin` of the raw frame) through maps already cut to the output's size.
+void remapBand(const cv::Mat& image, cv::Mat& out, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Point& origin,
+               int interpolation) {
+  const cv::Mat xy = origin == cv::Point() ? map_xy : cv::Mat(map_xy - cv::Scalar(origin.x, origin.y));
+  cv::remap(image, out, xy, map_fraction, interpolation, cv::BORDER_CONSTANT, 0);
 }
 
 /// Column sums of a mask band (0-255 values, soft edges from bilinear rectification) over the rows `rows`.
@@ -49,19 +51,25 @@ std::vector<double> columnProfile(const cv::Mat& band, const cv::Mat& rows) {
   return profile;
 }
 
-/// Shift [px] that best aligns the right profile with the left one (right = left shifted left by d) among
-/// [d_lo, d_hi], refined to sub-pixel by the profiles' centroids over the aligned window. NaN if none.
-double silhouetteShift(const std::vector<double>& left, const std::vector<double>& right, int d_lo, int d_hi) {
+/// First and last column with silhouette in a profile; {-1, -1} if none.
+std::pair<int, int> extent(const std::vector<double>& profile) {
   int u0 = -1, u1 = -1;
-  for (int u = 0; u < static_cast<int>(left.size()); ++u) {
-    if (left[u] > 0) {
+  for (int u = 0; u < static_cast<int>(profile.size()); ++u) {
+    if (profile[u] > 0) {
       if (u0 < 0) u0 = u;
       u1 = u;
     }
   }
-  if (u0 < 0) return std::numeric_limits<double>::quiet_NaN();
+  return {u0, u1};
+}
+
+/// Whole-pixel shift that best aligns the right profile with the left one (right = left shifted left by d)
+/// among [d_lo, d_hi], by intersection over union; -1 when none overlaps kMinSilhouetteOverlap.
+int bestShift(const std::vector<double>& left, const std::vector<double>& right, int d_lo, int d_hi) {
+  const auto [u0, u1] = extent(left);
+  if (u0 < 0) return -1;
   double best = -1.0;
-  int best_d = 0;
+  int best_d = -1;
   for (int d = d_lo; d <= d_hi; ++d) {
     if (u0 - d < 0) break;
     double overlap = 0, norm = 0;
@@ -75,13 +83,20 @@ double silhouetteShift(const std::vector<double>& left, const std::vector<double
       best_d = d;
     }
   }
-  if (best < kMinSilhouetteOverlap) return std::numeric_limits<double>::quiet_NaN();
+  return best < kMinSilhouetteOverlap ? -1 : best_d;
+}
+
+/// The shift refined to sub-pixel: the profiles' centroids, the right one's over the window `shift` aligns
+/// with the left silhouette. NaN if either is empty.
+double centroidShift(const std::vector<double>& left, const std::vector<double>& right, int shift) {
+  const auto [u0, u1] = extent(left);
+  if (u0 < 0) return std::numeric_limits<double>::quiet_NaN();
   double left_mass = 0, left_moment = 0, right_mass = 0, right_moment = 0;
   for (int u = u0; u <= u1; ++u) {
     left_mass += left[u];
     left_moment += left[u] * u;
   }
-  const int lo = std::max(0, u0 - best_d - kSilhouetteSlackPx), hi = std::min<int>(right.size() - 1, u1 - best_d + kSilhouetteSlackPx);
+  const int lo = std::max(0, u0 - shift - kSilhouetteSlackPx), hi = std::min<int>(right.size() - 1, u1 - shift + kSilhouetteSlackPx);
   for (int u = lo; u <= hi; ++u) {
     right_mass += right[u];
     right_moment += right[u] * u;
@@ -90,10 +105,13 @@ double silhouetteShift(const std::vector<double>& left, const std::vector<double
   return left_moment / left_mass - right_moment / right_mass;
 }
 
+/// Every n-th row of `m` (a header on the same data).
+cv::Mat everyNthRow(const cv::Mat& m, int n) { return cv::Mat((m.rows + n - 1) / n, m.cols, m.type(), m.data, m.step[0] * n); }
+
 /// `band` of a raw frame (grey or BGR) rectified through the maps, as grey.
 cv::Mat rectifiedGrey(const cv::Mat& frame, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band) {
   cv::Mat out;
-  remapBand(frame, out, map_xy, map_fraction, band, cv::Point(), cv::INTER_LINEAR);
+  remapBand(frame, out, map_xy(band), map_fraction(band), cv::Point(), cv::INTER_LINEAR);
   if (out.channels() == 3) cv::cvtColor(out, out, cv::COLOR_BGR2GRAY);
   return out;
 }
@@ -158,18 +176,11 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   int min_disparity = static_cast<int>(std::floor(d_min));
   int num_disparities = ((static_cast<int>(std::ceil(d_max)) - min_disparity + 15) / 16) * 16;
   const cv::Rect box = rectifiedBox(roi);
-  // The band: the object's rectified box plus margin, widened to the left by the largest disparity searched
-  // so the right camera's view of the object is inside the same rectangle.
-  auto bandFor = [&](int min_d, int num_d) {
-    return cv::Rect(box.x - config_.margin_px - min_d - num_d, box.y - config_.margin_px,
-                    box.width + 2 * config_.margin_px + min_d + num_d, box.height + 2 * config_.margin_px) &
-           cv::Rect(cv::Point(), size);
-  };
   RoiPoints out;
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
   // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
   if (!right_colour.empty()) {
-    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, bandFor(min_disparity, num_disparities));
+    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, box);
     if (std::isfinite(out.silhouette_disparity) &&
         (out.silhouette_disparity < d_min || out.silhouette_disparity > d_max)) {
       out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
@@ -199,7 +210,7 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band);
   cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, right_rect);
   cv::Mat mask_band;
-  remapBand(mask, mask_band, left_map_xy_, left_map_fraction_, band, roi.tl(), cv::INTER_NEAREST);
+  remapBand(mask, mask_band, left_map_xy_(band), left_map_fraction_(band), roi.tl(), cv::INTER_NEAREST);
   if (config_.erode_px > 0) {
     cv::erode(mask_band, mask_band,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
@@ -235,17 +246,43 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
 }
 
 double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                                             const cv::Rect& band) const {
-  // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.
-  cv::Mat left_band, right_band;
-  remapBand(mask, left_band, left_map_xy_, left_map_fraction_, band, roi.tl(), cv::INTER_LINEAR);
-  remapBand(right_colour, right_band, right_map_xy_, right_map_fraction_, band, cv::Point(), cv::INTER_LINEAR);
-  cv::Mat rows;
-  cv::reduce(left_band, rows, 1, cv::REDUCE_MAX);
+                                             const cv::Rect& box) const {
+  const cv::Rect frame(0, 0, calibration_.left.width, calibration_.left.height);
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const int d_lo = static_cast<int>(std::floor(f * baseline / config_.max_depth_m));
   const int d_hi = static_cast<int>(std::ceil(f * baseline / config_.min_depth_m));
-  return silhouetteShift(columnProfile(left_band, rows), columnProfile(right_band, rows), d_lo, d_hi);
+  // The left silhouette lies in its rectified box; the right one somewhere in that box moved left by the
+  // workspace's disparities. Profiles are kept in the columns of `span`, which holds both.
+  const cv::Rect left_rect = cv::Rect(box.x - 2, box.y - 2, box.width + 4, box.height + 4) & frame;
+  const int span_x = std::max(0, left_rect.x - d_hi);
+  if (left_rect.empty() || left_rect.br().x - d_lo <= span_x) return std::numeric_limits<double>::quiet_NaN();
+  const int span_width = left_rect.br().x - span_x;
+  // Column profiles over every `row_step`-th row of left_rect, the right one over `right_cols`.
+  auto profiles = [&](int row_step, int right_x0, int right_x1, std::vector<double>& left, std::vector<double>& right) {
+    const cv::Rect right_rect(right_x0, left_rect.y, right_x1 - right_x0, left_rect.height);
+    // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.
+    cv::Mat left_band, right_band, rows;
+    remapBand(mask, left_band, everyNthRow(left_map_xy_(left_rect), row_step), everyNthRow(left_map_fraction_(left_rect), row_step),
+              roi.tl(), cv::INTER_LINEAR);
+    remapBand(right_colour, right_band, everyNthRow(right_map_xy_(right_rect), row_step),
+              everyNthRow(right_map_fraction_(right_rect), row_step), cv::Point(), cv::INTER_LINEAR);
+    cv::reduce(left_band, rows, 1, cv::REDUCE_MAX);
+    const std::vector<double> l = columnProfile(left_band, rows), r = columnProfile(right_band, rows);
+    left.assign(span_width, 0.0);
+    right.assign(span_width, 0.0);
+    std::copy(l.begin(), l.end(), left.begin() + (left_rect.x - span_x));
+    std::copy(r.begin(), r.end(), right.begin() + (right_x0 - span_x));
+  };
+  // The whole-pixel shift from a quarter of the rows over the whole search range, then the sub-pixel one
+  // from all rows over the matched window only.
+  std::vector<double> left, right;
+  profiles(kCoarseRowStep, span_x, left_rect.br().x - d_lo, left, right);
+  const int shift = bestShift(left, right, d_lo, d_hi);
+  if (shift < 0) return std::numeric_limits<double>::quiet_NaN();
+  const int x0 = std::max(span_x, left_rect.x - shift - kSilhouetteSlackPx - 1);
+  const int x1 = std::min(left_rect.br().x - d_lo, left_rect.br().x - shift + kSilhouetteSlackPx + 1);
+  profiles(1, x0, x1, left, right);
+  return centroidShift(left, right, shift);
 }
 
 }  // namespace underwater_stereo

@@ -62,8 +62,9 @@ class RoiStereoMatcher {
   const StereoCalibration& calibration() const { return calibration_; }
 
  private:
+  /// `box`: the object's rectified box (rectifiedBox(roi)).
   double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                             const cv::Rect& band) const;
+                             const cv::Rect& box) const;
 
   StereoCalibration calibration_;
   StereoMatchConfig config_;
