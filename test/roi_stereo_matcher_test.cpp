@@ -77,6 +77,12 @@ TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
     const double tangent_z = depth * (1 - r * r / (d * d));
     const double expected = renderer.calibration().focalPx() * renderer.calibration().baselineM() / tangent_z;
     EXPECT_NEAR(pts.silhouette_disparity, expected, 0.25) << "at " << depth << " m";
+    // Only the part of the right mask the silhouette reads, at its place: the same disparity.
+    const cv::Rect region = matcher.rightColourRegion(roi);
+    ASSERT_FALSE(region.empty());
+    EXPECT_LT(region.area(), right_mask.total() / 2);
+    const RoiPoints part = matcher.match(left, right, roi, left_mask(roi), right_mask(region).clone(), region.tl());
+    EXPECT_DOUBLE_EQ(part.silhouette_disparity, pts.silhouette_disparity);
     const RoiPoints without = matcher.match(left, right, roi, left_mask(roi));
     EXPECT_TRUE(std::isnan(without.silhouette_disparity));
   }
@@ -101,7 +107,9 @@ TEST(RoiStereoMatcher, BadInputThrows) {
   cv::Mat colour;
   cv::cvtColor(pair.left, colour, cv::COLOR_GRAY2BGR);
   EXPECT_THROW(matcher.match(colour, pair.right, roi, mask), std::invalid_argument);
-  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC1)), std::invalid_argument);
+  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC1), cv::Point(pair.left.cols - 5, 0)),
+               std::invalid_argument);
 }
 
 TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {

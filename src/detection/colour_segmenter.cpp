@@ -65,19 +65,23 @@ std::vector<std::string> ColourMaskConfig::validate() const {
   return p;
 }
 
-cv::Mat greyWorld(const cv::Mat& bgr) {
-  requireBgr8(bgr, "greyWorld");
+cv::Scalar greyWorldGains(const cv::Mat& bgr) {
+  requireBgr8(bgr, "greyWorldGains");
   const cv::Scalar mean = cv::mean(bgr);
   const double grey = (mean[0] + mean[1] + mean[2]) / 3.0;
-  cv::Mat channels[3];
-  cv::split(bgr, channels);
-  for (int c = 0; c < 3; ++c) channels[c].convertTo(channels[c], CV_8U, grey / std::max(mean[c], 1.0));
+  return cv::Scalar(grey / std::max(mean[0], 1.0), grey / std::max(mean[1], 1.0), grey / std::max(mean[2], 1.0));
+}
+
+cv::Mat applyGains(const cv::Mat& bgr, const cv::Scalar& gains) {
+  requireBgr8(bgr, "applyGains");
   cv::Mat out;
-  cv::merge(channels, 3, out);
+  cv::multiply(bgr, gains, out);
   return out;
 }
 
-ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
+cv::Mat greyWorld(const cv::Mat& bgr) { return applyGains(bgr, greyWorldGains(bgr)); }
+
+ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int saturation_median) {
   requireBgr8(bgr, "colourMasks");
   cv::Mat hsv;
   if (config.blur_px > 1) {
@@ -87,7 +91,7 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config) {
     cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   }
   ColourMasks out;
-  out.saturation_median = channelMedian(hsv, 1);
+  out.saturation_median = saturation_median >= 0 ? saturation_median : channelMedian(hsv, 1);
   out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
   for (const ColourClass& c : config.classes) {
     cv::Mat mask;

@@ -7,7 +7,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <future>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -45,15 +44,11 @@ std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, 
 /// 2D stages shared by detect() and detect2d(): quality, colour masks, candidates.
 struct FrontEnd {
   QualityReport quality;
-  cv::Mat searched;  ///< the image the colours were searched in (white-balanced, enhanced)
+  cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
+  cv::Scalar gains{1.0, 1.0, 1.0};  ///< the grey-world gains it was balanced with (1: grey_world off)
+  int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
   std::vector<Candidate> candidates;
 };
-
-/// The image the colours are searched in: contrast-enhanced when the quality check says so, white-balanced.
-cv::Mat searchedImage(const cv::Mat& bgr, const QualityReport& quality, const DetectorConfig& config) {
-  cv::Mat out = quality.enhanced ? enhanceContrast(bgr, config.quality) : bgr;
-  return config.colours.grey_world ? greyWorld(out) : out;
-}
 
 cv::Mat scaledDown(const cv::Mat& bgr, double scale) {
   if (scale >= 1.0) return bgr;
@@ -81,14 +76,30 @@ Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
   return c;
 }
 
-/// Mask of all designated colours at full resolution (soft edges), searched in the scaled frame.
-cv::Mat colourMaskOf(const cv::Mat& bgr, const QualityReport& quality, const DetectorConfig& config,
-                     const DetectorConfig& search) {
-  const cv::Mat any = colourMasks(searchedImage(scaledDown(bgr, config.search_scale), quality, config), search.colours).any;
+/// The right frame's mask of all designated colours over `region` (full resolution, soft edges), searched
+/// exactly as the left frame was (scale, contrast enhancement, the left's gains and saturation floors), so
+/// the two silhouettes are cut alike.
+cv::Mat rightColourMask(const cv::Mat& right_bgr, const cv::Rect& region, const FrontEnd& left, const DetectorConfig& config,
+                        const DetectorConfig& search) {
+  cv::Mat small = scaledDown(right_bgr(region), config.search_scale);
+  if (left.quality.enhanced) small = enhanceContrast(small, config.quality);
+  if (config.colours.grey_world) small = applyGains(small, left.gains);
+  const cv::Mat any = colourMasks(small, search.colours, left.saturation_median).any;
   if (config.search_scale >= 1.0) return any;
   cv::Mat full;
-  cv::resize(any, full, bgr.size(), 0, 0, cv::INTER_LINEAR);
+  cv::resize(any, full, region.size(), 0, 0, cv::INTER_LINEAR);
   return full;
+}
+
+/// `region` grown by what the colour search's blur and morphology reach (so the mask inside it is the
+/// whole frame's), on even pixels (the half-size search's grid), inside `frame`.
+cv::Rect colourSearchRegion(const cv::Rect& region, const DetectorConfig& config, const DetectorConfig& search,
+                            const cv::Size& frame) {
+  const ColourMaskConfig& c = search.colours;
+  const int reach = static_cast<int>(std::ceil((c.blur_px + c.open_kernel_px + c.close_kernel_px + 2) / config.search_scale));
+  const int x0 = std::max(0, (region.x - reach) & ~1), y0 = std::max(0, (region.y - reach) & ~1);
+  const int x1 = std::min(frame.width, ((region.br().x + reach + 1) & ~1)), y1 = std::min(frame.height, ((region.br().y + reach + 1) & ~1));
+  return x1 > x0 && y1 > y0 ? cv::Rect(x0, y0, x1 - x0, y1 - y0) : cv::Rect();
 }
 
 FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
@@ -98,8 +109,13 @@ FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, const Det
   out.quality = assessQuality(small, config.quality);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
-  out.searched = searchedImage(small, out.quality, config);
+  out.searched = out.quality.enhanced ? enhanceContrast(small, config.quality) : small;
+  if (config.colours.grey_world) {
+    out.gains = greyWorldGains(out.searched);
+    out.searched = applyGains(out.searched, out.gains);
+  }
   const ColourMasks masks = colourMasks(out.searched, search.colours);
+  out.saturation_median = masks.saturation_median;
   t.colour_ms = watch.lapMs();
   for (Candidate& c : findCandidates(out.searched, masks, config.colours.classes, search.candidates)) {
     out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, bgr.size()));
@@ -173,10 +189,11 @@ DetectionResult Detector::detect2d(const cv::Mat& bgr) {
 }
 
 std::optional<Detection> Detector::measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
-                                           const cv::Mat& right_colour, StageTimings& t) const {
+                                           const cv::Mat& right_colour, const cv::Point& right_colour_origin,
+                                           StageTimings& t) const {
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
-  const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour);
+  const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour, right_colour_origin);
   t.stereo_ms += stage.lapMs();
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
   t.cluster_ms += stage.lapMs();
@@ -212,19 +229,18 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   }
   DetectionResult result;
   Stopwatch watch, total;
-  // The right frame's colour mask (for the silhouettes) on the second core while this one searches the left.
-  auto right_colour_job = std::async(std::launch::async, [&] {
-    const QualityReport right_quality = assessQuality(scaledDown(right_bgr, config_.search_scale), config_.quality);
-    return colourMaskOf(right_bgr, right_quality, config_, search_config_);
-  });
   const FrontEnd front = runFrontEnd(left_bgr, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
-  const cv::Mat right_colour = right_colour_job.get();
-  result.timings.colour_ms += watch.lapMs();
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
     return result;
   }
+  // The right frame's colour mask (for the silhouettes) only where each object's silhouette can be, or the
+  // whole frame when contrast enhancement (CLAHE: tiles over the whole frame) has to match the left's.
+  const cv::Rect whole_frame(cv::Point(), right_bgr.size());
+  const cv::Mat whole_right_colour =
+      front.quality.enhanced ? rightColourMask(right_bgr, whole_frame, front, config_, search_config_) : cv::Mat();
+  result.timings.colour_ms += watch.lapMs();
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other core.
   const int n = static_cast<int>(front.candidates.size());
@@ -237,10 +253,23 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const int k = order[i];
-      found[k] = measure(front.candidates[k], left_bgr, right_bgr, right_colour, times[k]);
+      const Candidate& c = front.candidates[k];
+      cv::Mat right_colour = whole_right_colour;
+      cv::Point origin;
+      if (right_colour.empty()) {
+        Stopwatch colour;
+        const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right_bgr.size());
+        if (!region.empty()) {
+          right_colour = rightColourMask(right_bgr, region, front, config_, search_config_);
+          origin = region.tl();
+        }
+        times[k].colour_ms = colour.lapMs();
+      }
+      found[k] = measure(c, left_bgr, right_bgr, right_colour, origin, times[k]);
     }
   });
   for (int k = 0; k < n; ++k) {
+    result.timings.colour_ms += times[k].colour_ms;
     result.timings.stereo_ms += times[k].stereo_ms;
     result.timings.cluster_ms += times[k].cluster_ms;
     result.timings.fit_ms += times[k].fit_ms;

@@ -156,8 +156,8 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
   return cv::boundingRect(rectified);
 }
 
-RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi,
-                                  const cv::Mat& mask, const cv::Mat& right_colour) const {
+RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask,
+                                  const cv::Mat& right_colour, const cv::Point& right_colour_origin) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
   const bool grey = left.type() == CV_8UC1 && right.type() == CV_8UC1;
   const bool colour = left.type() == CV_8UC3 && right.type() == CV_8UC3;
@@ -168,8 +168,9 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   if (roi.empty() || (roi & cv::Rect(cv::Point(), size)) != roi || mask.type() != CV_8UC1 || mask.size() != roi.size()) {
     throw std::invalid_argument("RoiStereoMatcher::match: roi must lie in the image and mask be CV_8UC1 of its size");
   }
-  if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || right_colour.size() != size)) {
-    throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 of the calibrated size");
+  const cv::Rect right_colour_rect(right_colour_origin, right_colour.size());
+  if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || (right_colour_rect & cv::Rect(cv::Point(), size)) != right_colour_rect)) {
+    throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 and lie in the image");
   }
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
@@ -180,7 +181,7 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
   // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
   if (!right_colour.empty()) {
-    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, box);
+    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, right_colour_origin, box);
     if (std::isfinite(out.silhouette_disparity) &&
         (out.silhouette_disparity < d_min || out.silhouette_disparity > d_max)) {
       out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
@@ -245,18 +246,46 @@ RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, con
   return out;
 }
 
-double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                                             const cv::Rect& box) const {
-  const cv::Rect frame(0, 0, calibration_.left.width, calibration_.left.height);
+std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
-  const int d_lo = static_cast<int>(std::floor(f * baseline / config_.max_depth_m));
-  const int d_hi = static_cast<int>(std::ceil(f * baseline / config_.min_depth_m));
+  return {static_cast<int>(std::floor(f * baseline / config_.max_depth_m)),
+          static_cast<int>(std::ceil(f * baseline / config_.min_depth_m))};
+}
+
+cv::Rect RoiStereoMatcher::silhouetteBox(const cv::Rect& box) const {
+  return cv::Rect(box.x - 2, box.y - 2, box.width + 4, box.height + 4) &
+         cv::Rect(0, 0, calibration_.left.width, calibration_.left.height);
+}
+
+cv::Rect RoiStereoMatcher::silhouetteSpan(const cv::Rect& box) const {
   // The left silhouette lies in its rectified box; the right one somewhere in that box moved left by the
-  // workspace's disparities. Profiles are kept in the columns of `span`, which holds both.
-  const cv::Rect left_rect = cv::Rect(box.x - 2, box.y - 2, box.width + 4, box.height + 4) & frame;
-  const int span_x = std::max(0, left_rect.x - d_hi);
-  if (left_rect.empty() || left_rect.br().x - d_lo <= span_x) return std::numeric_limits<double>::quiet_NaN();
-  const int span_width = left_rect.br().x - span_x;
+  // workspace's disparities.
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  const cv::Rect left_rect = silhouetteBox(box);
+  const int x0 = std::max(0, left_rect.x - d_hi);
+  if (left_rect.empty() || left_rect.br().x - d_lo <= x0) return {};
+  return cv::Rect(x0, left_rect.y, left_rect.br().x - x0, left_rect.height);
+}
+
+cv::Rect RoiStereoMatcher::rightColourRegion(const cv::Rect& roi) const {
+  const cv::Rect span = silhouetteSpan(rectifiedBox(roi));
+  if (span.empty()) return {};
+  cv::Mat xy[2];
+  cv::split(right_map_xy_(span), xy);
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  cv::minMaxLoc(xy[0], &x0, &x1);
+  cv::minMaxLoc(xy[1], &y0, &y1);
+  // Bilinear interpolation also reads the next column and row.
+  return cv::Rect(cv::Point(static_cast<int>(x0), static_cast<int>(y0)), cv::Point(static_cast<int>(x1) + 2, static_cast<int>(y1) + 2)) &
+         cv::Rect(0, 0, calibration_.right.width, calibration_.right.height);
+}
+
+double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
+                                             const cv::Point& right_colour_origin, const cv::Rect& box) const {
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  const cv::Rect left_rect = silhouetteBox(box), span = silhouetteSpan(box);
+  if (span.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const int span_x = span.x, span_width = span.width;
   // Column profiles over every `row_step`-th row of left_rect, the right one over `right_cols`.
   auto profiles = [&](int row_step, int right_x0, int right_x1, std::vector<double>& left, std::vector<double>& right) {
     const cv::Rect right_rect(right_x0, left_rect.y, right_x1 - right_x0, left_rect.height);
@@ -265,7 +294,7 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
     remapBand(mask, left_band, everyNthRow(left_map_xy_(left_rect), row_step), everyNthRow(left_map_fraction_(left_rect), row_step),
               roi.tl(), cv::INTER_LINEAR);
     remapBand(right_colour, right_band, everyNthRow(right_map_xy_(right_rect), row_step),
-              everyNthRow(right_map_fraction_(right_rect), row_step), cv::Point(), cv::INTER_LINEAR);
+              everyNthRow(right_map_fraction_(right_rect), row_step), right_colour_origin, cv::INTER_LINEAR);
     cv::reduce(left_band, rows, 1, cv::REDUCE_MAX);
     const std::vector<double> l = columnProfile(left_band, rows), r = columnProfile(right_band, rows);
     left.assign(span_width, 0.0);

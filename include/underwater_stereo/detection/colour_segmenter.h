@@ -43,7 +43,12 @@ struct ColourMaskConfig {
   std::vector<std::string> validate() const;
 };
 
-/// Grey-world white balance of a BGR8 image. @throw std::invalid_argument when not CV_8UC3 or empty.
+/// Per-channel gains that make a BGR8 image's mean grey (grey-world white balance).
+/// @throw std::invalid_argument when not CV_8UC3 or empty.
+cv::Scalar greyWorldGains(const cv::Mat& bgr);
+/// `bgr` with each channel scaled by its gain. @throw std::invalid_argument when not CV_8UC3 or empty.
+cv::Mat applyGains(const cv::Mat& bgr, const cv::Scalar& gains);
+/// Grey-world white balance of a BGR8 image: applyGains(bgr, greyWorldGains(bgr)).
 cv::Mat greyWorld(const cv::Mat& bgr);
 
 /// Where the designated colours are. Binary masks, CV_8UC1 0/255, of the image's size.
@@ -56,8 +61,9 @@ struct ColourMasks {
   cv::Mat any;
 };
 
-/// The masks of `bgr`, the frame as searched (after any white balance).
+/// The masks of `bgr`, the frame as searched (after any white balance). `saturation_median` >= 0 is used
+/// instead of measuring it (a part of a frame searched with the whole frame's floors).
 /// @throw std::invalid_argument when `bgr` is empty or not CV_8UC3.
-ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config);
+ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int saturation_median = -1);
 
 }  // namespace underwater_stereo

@@ -32,8 +32,8 @@ struct Detection {
   double fit_rmse_m = 0.0;
 };
 
-/// Time per stage of the last call [ms]; stereo, cluster and fit are summed over objects (measured in
-/// parallel), so they can add up to more than total_ms.
+/// Time per stage of the last call [ms]; stereo, cluster and fit (and the right frame's colour mask, part of
+/// colour) are summed over objects (measured in parallel), so they can add up to more than total_ms.
 struct StageTimings {
   double quality_ms = 0, colour_ms = 0, contours_ms = 0, stereo_ms = 0, cluster_ms = 0, fit_ms = 0, total_ms = 0;
 };
@@ -65,7 +65,7 @@ class Detector {
  private:
   /// Stereo, clustering and shape of one candidate (thread-safe: reads only).
   std::optional<Detection> measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
-                                   const cv::Mat& right_colour, StageTimings& t) const;
+                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)

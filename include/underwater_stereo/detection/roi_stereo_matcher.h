@@ -11,6 +11,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "underwater_stereo/detection/stereo_calibration.h"
@@ -49,12 +50,16 @@ class RoiStereoMatcher {
 
   /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
   /// `left`/`right` are raw (distorted) frames of the calibrated size, both CV_8UC1 or both CV_8UC3 (BGR:
-  /// only the bands are converted to grey). `right_colour` (optional:
-  /// empty to skip) is the raw right frame's mask of the designated colours, full size, for the silhouette
-  /// disparity.
-  /// @throw std::invalid_argument on wrong types or sizes, or an roi outside the image.
+  /// only the bands are converted to grey). `right_colour` (optional: empty to skip) is the raw right
+  /// frame's mask of the designated colours, for the silhouette disparity: the whole frame, or a part of it
+  /// at `right_colour_origin` holding at least rightColourRegion(roi).
+  /// @throw std::invalid_argument on wrong types or sizes, or an roi or right_colour outside the image.
   RoiPoints match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask,
-                  const cv::Mat& right_colour = cv::Mat()) const;
+                  const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point()) const;
+
+  /// The part of the raw right frame whose colour mask the silhouette disparity of `roi` reads (empty when
+  /// the object's right view cannot be in the image).
+  cv::Rect rightColourRegion(const cv::Rect& roi) const;
 
   /// Rectified-frame bounding box of a raw-image rectangle (left camera).
   cv::Rect rectifiedBox(const cv::Rect& raw_roi) const;
@@ -64,7 +69,13 @@ class RoiStereoMatcher {
  private:
   /// `box`: the object's rectified box (rectifiedBox(roi)).
   double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                             const cv::Rect& box) const;
+                             const cv::Point& right_colour_origin, const cv::Rect& box) const;
+  /// Disparities [px] of the workspace's far and near ends.
+  std::pair<int, int> workspaceDisparities() const;
+  /// The rectified box the left silhouette is read in, and the rectified columns (same rows) that hold it
+  /// and the right silhouette at every workspace disparity (empty if none fits in the image).
+  cv::Rect silhouetteBox(const cv::Rect& box) const;
+  cv::Rect silhouetteSpan(const cv::Rect& box) const;
 
   StereoCalibration calibration_;
   StereoMatchConfig config_;
