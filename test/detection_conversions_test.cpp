@@ -93,23 +93,27 @@ TEST(DetectionConversions, AnnotatedFrameKeepsTheSizeAndDrawsOnIt) {
   EXPECT_THROW(annotate(cv::Mat(), twoObjects()), std::invalid_argument);
 }
 
-TEST(StereoInput, ConvertsEveryAcceptedEncodingToBgr) {
+TEST(StereoInput, TakesEveryAcceptedEncoding) {
   const RenderedInput in = smallPool();  // bayer_rggb8
   const ros_glue::StereoInput out =
       ros_glue::toStereoInput(in.left, in.left_info, in.right, in.right_info, "left", "right", 0.0);
-  EXPECT_EQ(out.left.type(), CV_8UC3);
+  EXPECT_EQ(out.left.layout(), PixelLayout::kBayerRggb);
+  EXPECT_EQ(out.left.data().data, in.left.data.data()) << "the mosaic is shared, not copied";
   EXPECT_EQ(out.left.size(), cv::Size(640, 400));
   EXPECT_NEAR(out.calibration.baselineM(), 0.12, 0.005);
-  const cv::Mat bgr = out.left.clone();
+  const cv::Mat bgr = out.left.bgr().clone();
+  cv::Mat as_bridge;  // what cv_bridge makes of the mosaic
+  cv::cvtColor(out.left.data(), as_bridge, cv::COLOR_BayerBG2BGR);
+  EXPECT_EQ(cv::norm(bgr, as_bridge, cv::NORM_INF), 0.0);
   for (const std::string enc : {"bgr8", "rgb8", "mono8"}) {
     cv::Mat converted = bgr.clone();  // cvtColor must not write into bgr
     if (enc == "rgb8") cv::cvtColor(bgr, converted, cv::COLOR_BGR2RGB);
     if (enc == "mono8") cv::cvtColor(bgr, converted, cv::COLOR_BGR2GRAY);
     sensor_msgs::Image img = *cv_bridge::CvImage(std_msgs::Header(), enc, converted).toImageMsg();
     const ros_glue::StereoInput o = ros_glue::toStereoInput(img, in.left_info, img, in.right_info, "l", "r", 0.0);
-    EXPECT_EQ(o.left.type(), CV_8UC3) << enc;
+    EXPECT_EQ(o.left.layout(), enc == "mono8" ? PixelLayout::kMono : PixelLayout::kBgr) << enc;
     if (enc != "mono8") {
-      EXPECT_EQ(cv::norm(o.left, bgr, cv::NORM_INF), 0.0) << enc;
+      EXPECT_EQ(cv::norm(o.left.bgr(), bgr, cv::NORM_INF), 0.0) << enc;
     }
   }
   EXPECT_TRUE(ros_glue::acceptedEncoding("bayer_grbg8"));
@@ -142,5 +146,10 @@ TEST(StereoInput, BadPairsThrowNamingTheTopicAndValue) {
               cv::Mat small(200, 320, CV_8UC1, cv::Scalar(0));
               in.right = *cv_bridge::CvImage(std_msgs::Header(), "bayer_rggb8", small).toImageMsg();
             }).find("/s/left is 640x400 but /s/right is 320x200"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& in) {
+              cv::Mat odd(399, 639, CV_8UC1, cv::Scalar(0));
+              in.right = *cv_bridge::CvImage(std_msgs::Header(), "bayer_rggb8", odd).toImageMsg();
+            }).find("/s/right: RawFrame: a Bayer frame needs even width and height, got 639x399"),
             std::string::npos);
 }

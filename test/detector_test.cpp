@@ -82,7 +82,7 @@ TEST(Detector, GarbageInputThrows) {
   Detector detector(defaultConfig(), renderer.calibration());
   const cv::Mat good(400, 640, CV_8UC3, cv::Scalar(100, 100, 100));
   EXPECT_THROW(detector.detect(cv::Mat(), good), std::invalid_argument);
-  EXPECT_THROW(detector.detect(good, cv::Mat(400, 640, CV_8UC1, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(detector.detect(good, cv::Mat(400, 640, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
   EXPECT_THROW(detector.detect(good, cv::Mat(200, 320, CV_8UC3, cv::Scalar(0))), std::invalid_argument);
   EXPECT_THROW(detector.detect(cv::Mat(200, 320, CV_8UC3), cv::Mat(200, 320, CV_8UC3)), std::invalid_argument);
   EXPECT_THROW(detector.detect2d(cv::Mat()), std::invalid_argument);

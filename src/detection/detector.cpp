@@ -12,7 +12,6 @@
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
-#include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
 
 namespace underwater_stereo {
@@ -50,10 +49,12 @@ struct FrontEnd {
   std::vector<Candidate> candidates;
 };
 
-cv::Mat scaledDown(const cv::Mat& bgr, double scale) {
-  if (scale >= 1.0) return bgr;
+/// BGR8 of `region` of the frame scaled by `scale`; at 0.5 straight from the Bayer cells, no demosaicing.
+cv::Mat scaledDown(const RawFrame& frame, const cv::Rect& region, double scale) {
+  if (scale >= 1.0) return frame.bgr(region);
+  if (scale == 0.5 && region.x % 2 == 0 && region.y % 2 == 0) return frame.halfSizeBgr(region);
   cv::Mat small;
-  cv::resize(bgr, small, cv::Size(), scale, scale, cv::INTER_AREA);
+  cv::resize(frame.bgr(region), small, cv::Size(), scale, scale, cv::INTER_AREA);
   return small;
 }
 
@@ -79,9 +80,9 @@ Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
 /// The right frame's mask of all designated colours over `region` (full resolution, soft edges), searched
 /// exactly as the left frame was (scale, contrast enhancement, the left's gains and saturation floors), so
 /// the two silhouettes are cut alike.
-cv::Mat rightColourMask(const cv::Mat& right_bgr, const cv::Rect& region, const FrontEnd& left, const DetectorConfig& config,
+cv::Mat rightColourMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const DetectorConfig& config,
                         const DetectorConfig& search) {
-  cv::Mat small = scaledDown(right_bgr(region), config.search_scale);
+  cv::Mat small = scaledDown(right, region, config.search_scale);
   if (left.quality.enhanced) small = enhanceContrast(small, config.quality);
   if (config.colours.grey_world) small = applyGains(small, left.gains);
   const cv::Mat any = colourMasks(small, search.colours, left.saturation_median).any;
@@ -102,10 +103,10 @@ cv::Rect colourSearchRegion(const cv::Rect& region, const DetectorConfig& config
   return x1 > x0 && y1 > y0 ? cv::Rect(x0, y0, x1 - x0, y1 - y0) : cv::Rect();
 }
 
-FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
+FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
                      Stopwatch& watch) {
   FrontEnd out;
-  const cv::Mat small = scaledDown(bgr, config.search_scale);
+  const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config.search_scale);
   out.quality = assessQuality(small, config.quality);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
@@ -118,19 +119,19 @@ FrontEnd runFrontEnd(const cv::Mat& bgr, const DetectorConfig& config, const Det
   out.saturation_median = masks.saturation_median;
   t.colour_ms = watch.lapMs();
   for (Candidate& c : findCandidates(out.searched, masks, config.colours.classes, search.candidates)) {
-    out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, bgr.size()));
+    out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, frame.size()));
   }
   t.contours_ms = watch.lapMs();
   return out;
 }
 
-Detection describe2d(const Candidate& c, const cv::Mat& raw_bgr, const DetectorConfig& config) {
+Detection describe2d(const Candidate& c, const RawFrame& left, const DetectorConfig& config) {
   Detection d;
   d.colour = config.colours.classes[c.colour_index].name;
   d.outline = c.outline;
   d.roi = c.roi;
   d.contour = c.contour;
-  d.measured_bgr = cv::mean(raw_bgr(c.roi), c.mask);
+  d.measured_bgr = cv::mean(left.bgr(c.roi), c.mask);
   d.confidence = c.colour_fraction;
   return d;
 }
@@ -177,28 +178,28 @@ Detector::Detector(const DetectorConfig& config) : config_(config), search_confi
 
 Detector::~Detector() = default;
 
-DetectionResult Detector::detect2d(const cv::Mat& bgr) {
-  requireBgr8(bgr, "Detector::detect2d");
+DetectionResult Detector::detect2d(const RawFrame& frame) {
+  if (frame.empty()) throw std::invalid_argument("Detector::detect2d: empty frame");
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(bgr, config_, search_config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
-  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, bgr, config_));
+  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame, config_));
   result.timings.total_ms = total.lapMs();
   return result;
 }
 
-std::optional<Detection> Detector::measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
+std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
                                            StageTimings& t) const {
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
-  const RoiPoints roi_points = matcher_->match(left_bgr, right_bgr, c.roi, c.mask, right_colour, right_colour_origin);
+  const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin);
   t.stereo_ms += stage.lapMs();
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
   t.cluster_ms += stage.lapMs();
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) return std::nullopt;
-  Detection d = describe2d(c, left_bgr, config_);
+  Detection d = describe2d(c, left, config_);
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
   ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
   placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
@@ -216,20 +217,19 @@ std::optional<Detection> Detector::measure(const Candidate& c, const cv::Mat& le
   return d;
 }
 
-DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_bgr) {
+DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) {
   if (!matcher_) throw std::invalid_argument("Detector::detect: built without calibration (2D only)");
-  requireBgr8(left_bgr, "Detector::detect (left)");
-  requireBgr8(right_bgr, "Detector::detect (right)");
+  if (left.empty() || right.empty()) throw std::invalid_argument("Detector::detect: empty frame");
   const CameraCalibration& cal = matcher_->calibration().left;
-  if (left_bgr.size() != cv::Size(cal.width, cal.height) || right_bgr.size() != left_bgr.size()) {
-    throw std::invalid_argument("Detector::detect: images are " + std::to_string(left_bgr.cols) + "x" +
-                                std::to_string(left_bgr.rows) + " and " + std::to_string(right_bgr.cols) + "x" +
-                                std::to_string(right_bgr.rows) + ", calibration is " + std::to_string(cal.width) +
+  if (left.size() != cv::Size(cal.width, cal.height) || right.size() != left.size()) {
+    throw std::invalid_argument("Detector::detect: images are " + std::to_string(left.size().width) + "x" +
+                                std::to_string(left.size().height) + " and " + std::to_string(right.size().width) + "x" +
+                                std::to_string(right.size().height) + ", calibration is " + std::to_string(cal.width) +
                                 "x" + std::to_string(cal.height));
   }
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(left_bgr, config_, search_config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(left, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
@@ -237,9 +237,9 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
   }
   // The right frame's colour mask (for the silhouettes) only where each object's silhouette can be, or the
   // whole frame when contrast enhancement (CLAHE: tiles over the whole frame) has to match the left's.
-  const cv::Rect whole_frame(cv::Point(), right_bgr.size());
+  const cv::Rect whole_frame(cv::Point(), right.size());
   const cv::Mat whole_right_colour =
-      front.quality.enhanced ? rightColourMask(right_bgr, whole_frame, front, config_, search_config_) : cv::Mat();
+      front.quality.enhanced ? rightColourMask(right, whole_frame, front, config_, search_config_) : cv::Mat();
   result.timings.colour_ms += watch.lapMs();
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other core.
@@ -258,14 +258,14 @@ DetectionResult Detector::detect(const cv::Mat& left_bgr, const cv::Mat& right_b
       cv::Point origin;
       if (right_colour.empty()) {
         Stopwatch colour;
-        const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right_bgr.size());
+        const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right.size());
         if (!region.empty()) {
-          right_colour = rightColourMask(right_bgr, region, front, config_, search_config_);
+          right_colour = rightColourMask(right, region, front, config_, search_config_);
           origin = region.tl();
         }
         times[k].colour_ms = colour.lapMs();
       }
-      found[k] = measure(c, left_bgr, right_bgr, right_colour, origin, times[k]);
+      found[k] = measure(c, left, right, right_colour, origin, times[k]);
     }
   });
   for (int k = 0; k < n; ++k) {

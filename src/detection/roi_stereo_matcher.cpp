@@ -108,11 +108,24 @@ double centroidShift(const std::vector<double>& left, const std::vector<double>&
 /// Every n-th row of `m` (a header on the same data).
 cv::Mat everyNthRow(const cv::Mat& m, int n) { return cv::Mat((m.rows + n - 1) / n, m.cols, m.type(), m.data, m.step[0] * n); }
 
-/// `band` of a raw frame (grey or BGR) rectified through the maps, as grey.
-cv::Mat rectifiedGrey(const cv::Mat& frame, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band) {
+/// The raw pixels a remap through `map_xy` reads (bilinear: also the next column and row), inside the frame;
+/// empty when it reads none.
+cv::Rect sourceRegion(const cv::Mat& map_xy, const cv::Size& frame) {
+  cv::Mat xy[2];
+  cv::split(map_xy, xy);
+  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  cv::minMaxLoc(xy[0], &x0, &x1);
+  cv::minMaxLoc(xy[1], &y0, &y1);
+  return cv::Rect(cv::Point(static_cast<int>(x0), static_cast<int>(y0)), cv::Point(static_cast<int>(x1) + 2, static_cast<int>(y1) + 2)) &
+         cv::Rect(cv::Point(), frame);
+}
+
+/// `band` of a raw frame rectified through the maps, as grey: only the raw pixels it reads are converted.
+cv::Mat rectifiedGrey(const RawFrame& frame, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band) {
+  const cv::Rect source = sourceRegion(map_xy(band), frame.size());
+  if (source.empty()) return cv::Mat::zeros(band.size(), CV_8UC1);
   cv::Mat out;
-  remapBand(frame, out, map_xy(band), map_fraction(band), cv::Point(), cv::INTER_LINEAR);
-  if (out.channels() == 3) cv::cvtColor(out, out, cv::COLOR_BGR2GRAY);
+  remapBand(frame.grey(source), out, map_xy(band), map_fraction(band), source.tl(), cv::INTER_LINEAR);
   return out;
 }
 
@@ -156,13 +169,11 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
   return cv::boundingRect(rectified);
 }
 
-RoiPoints RoiStereoMatcher::match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask,
+RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
-  const bool grey = left.type() == CV_8UC1 && right.type() == CV_8UC1;
-  const bool colour = left.type() == CV_8UC3 && right.type() == CV_8UC3;
-  if (!(grey || colour) || left.size() != size || right.size() != size) {
-    throw std::invalid_argument("RoiStereoMatcher::match: left and right must both be CV_8UC1 or both CV_8UC3 of the calibrated size " +
+  if (left.size() != size || right.size() != size) {
+    throw std::invalid_argument("RoiStereoMatcher::match: left and right must be frames of the calibrated size " +
                                 std::to_string(size.width) + "x" + std::to_string(size.height));
   }
   if (roi.empty() || (roi & cv::Rect(cv::Point(), size)) != roi || mask.type() != CV_8UC1 || mask.size() != roi.size()) {
@@ -269,15 +280,7 @@ cv::Rect RoiStereoMatcher::silhouetteSpan(const cv::Rect& box) const {
 
 cv::Rect RoiStereoMatcher::rightColourRegion(const cv::Rect& roi) const {
   const cv::Rect span = silhouetteSpan(rectifiedBox(roi));
-  if (span.empty()) return {};
-  cv::Mat xy[2];
-  cv::split(right_map_xy_(span), xy);
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  cv::minMaxLoc(xy[0], &x0, &x1);
-  cv::minMaxLoc(xy[1], &y0, &y1);
-  // Bilinear interpolation also reads the next column and row.
-  return cv::Rect(cv::Point(static_cast<int>(x0), static_cast<int>(y0)), cv::Point(static_cast<int>(x1) + 2, static_cast<int>(y1) + 2)) &
-         cv::Rect(0, 0, calibration_.right.width, calibration_.right.height);
+  return span.empty() ? cv::Rect() : sourceRegion(right_map_xy_(span), cv::Size(calibration_.right.width, calibration_.right.height));
 }
 
 double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,

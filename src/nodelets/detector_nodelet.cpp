@@ -285,7 +285,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));
     const bool want_snapshot = snapshot_pub_.getNumSubscribers() > 0 && !result.objects.empty();
     if (image_pub_.getNumSubscribers() > 0 || want_snapshot) {
-      const sensor_msgs::ImagePtr annotated = cv_bridge::CvImage(header, "bgr8", annotate(input.left, result)).toImageMsg();
+      const sensor_msgs::ImagePtr annotated = cv_bridge::CvImage(header, "bgr8", annotate(input.left.bgr(), result)).toImageMsg();
       if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(annotated);
       if (want_snapshot) snapshot_pub_.publish(annotated);
     }

@@ -18,7 +18,7 @@ std::string sizeOf(std::uint32_t width, std::uint32_t height) {
   return std::to_string(width) + "x" + std::to_string(height);
 }
 
-cv::Mat toBgr(const sensor_msgs::Image& image, const std::string& topic) {
+RawFrame toRawFrame(const sensor_msgs::Image& image, const std::string& topic) {
   if (!acceptedEncoding(image.encoding)) {
     throw std::invalid_argument(topic + ": encoding '" + image.encoding +
                                 "' is not accepted (bayer_rggb8/bggr8/gbrg8/grbg8, bgr8, rgb8, mono8)");
@@ -29,14 +29,16 @@ cv::Mat toBgr(const sensor_msgs::Image& image, const std::string& topic) {
                                 std::to_string(image.step) + ", " + std::to_string(image.data.size()) + " bytes)");
   }
   try {
-    // bgr8 shares the message's buffer (zero-copy within a nodelet manager; the caller keeps the message).
-    // Anything else is converted: toCvShare would share rgb8 unconverted (same channels and depth).
-    if (image.encoding == sensor_msgs::image_encodings::BGR8) {
-      return cv_bridge::toCvShare(image, boost::shared_ptr<const void>())->image;
+    // rgb8 is converted; everything else shares the message's buffer (zero-copy within a nodelet manager; the
+    // caller keeps the message): Bayer mosaics are demosaiced by the detector only where it needs colour.
+    if (image.encoding == sensor_msgs::image_encodings::RGB8) {
+      return RawFrame(cv_bridge::toCvCopy(image, sensor_msgs::image_encodings::BGR8)->image);
     }
-    return cv_bridge::toCvCopy(image, sensor_msgs::image_encodings::BGR8)->image;
+    return RawFrame(cv_bridge::toCvShare(image, boost::shared_ptr<const void>())->image, pixelLayoutOf(image.encoding));
   } catch (const cv_bridge::Exception& e) {
-    throw std::invalid_argument(topic + ": cannot convert '" + image.encoding + "' to bgr8: " + e.what());
+    throw std::invalid_argument(topic + ": cannot read '" + image.encoding + "': " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(topic + ": " + e.what());
   }
 }
 
@@ -66,8 +68,8 @@ StereoInput toStereoInput(const sensor_msgs::Image& left, const sensor_msgs::Cam
                                 " s apart (at most " + std::to_string(max_skew_s) + " s)");
   }
   StereoInput in;
-  in.left = toBgr(left, left_topic);
-  in.right = toBgr(right, right_topic);
+  in.left = toRawFrame(left, left_topic);
+  in.right = toRawFrame(right, right_topic);
   if (in.left.size() != in.right.size()) {
     throw std::invalid_argument(left_topic + " is " + sizeOf(left.width, left.height) + " but " + right_topic + " is " +
                                 sizeOf(right.width, right.height));

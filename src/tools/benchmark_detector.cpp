@@ -29,7 +29,7 @@ const char* kUsage =
     "  --summary ends with one line over all pairs: median_ms=.. p99_ms=.. pairs_per_s=..\n";
 
 struct Pair {
-  cv::Mat left, right;
+  RawFrame left, right;  ///< as the camera sends them (Bayer): the detector's timing includes any conversion
 };
 
 }  // namespace
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
       std::vector<Pair> pairs;
       for (int k = 0; k < frames; ++k) {
         const sim::RenderedPair r = renderer.render(k / rate, k);
-        pairs.push_back({tools::toBgr(r.left, r.encoding), tools::toBgr(r.right, r.encoding)});
+        pairs.push_back({RawFrame(r.left, pixelLayoutOf(r.encoding)), RawFrame(r.right, pixelLayoutOf(r.encoding))});
       }
       Detector detector(config, renderer.calibration());
       for (const Pair& p : pairs) detector.detect(p.left, p.right);  // warm-up: maps, allocations

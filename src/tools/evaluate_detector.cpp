@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < frames; ++k) {
         const sim::RenderedPair pair = renderer.render(k / rate, static_cast<std::uint64_t>(k));
         accumulate(s, pair.ground_truth,
-                   detector.detect(tools::toBgr(pair.left, pair.encoding), tools::toBgr(pair.right, pair.encoding)),
+                   detector.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)), RawFrame(pair.right, pixelLayoutOf(pair.encoding))),
                    designated);
       }
       std::string name = path.substr(path.find_last_of('/') + 1);

@@ -16,6 +16,7 @@
 #include <iostream>
 #include <string>
 
+#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
 #include "underwater_stereo/sim/renderer.h"
@@ -136,8 +137,7 @@ int main(int argc, char** argv) {
         char name[32];
         for (const auto& [side, image] : {std::pair<const char*, const cv::Mat&>{"left", pair.left}, {"right", pair.right}}) {
           std::snprintf(name, sizeof(name), "/%s_%04d.png", side, k);
-          cv::Mat bgr = image;
-          if (pair.encoding == "bayer_rggb8") cv::cvtColor(image, bgr, cv::COLOR_BayerBG2BGR);
+          const cv::Mat bgr = RawFrame(image, pixelLayoutOf(pair.encoding)).bgr();
           if (!cv::imwrite(opt.png_dir + name, bgr)) throw std::runtime_error(std::string("cannot write ") + opt.png_dir + name);
         }
         YAML::Node frame;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/detector_config.h"
+#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/detection/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -53,18 +54,19 @@ class Detector {
   explicit Detector(const DetectorConfig& config);
   ~Detector();
 
-  /// Raw (distorted) left and right BGR8 frames of the calibrated size. A spoiled frame is reported with no
-  /// objects. @throw std::invalid_argument on wrong types or sizes, or when built without calibration.
-  DetectionResult detect(const cv::Mat& left_bgr, const cv::Mat& right_bgr);
+  /// Raw (distorted) left and right frames of the calibrated size, as they arrive (BGR8, grey or Bayer: a
+  /// cv::Mat converts to a BGR or grey RawFrame). A spoiled frame is reported with no objects.
+  /// @throw std::invalid_argument on empty frames or wrong sizes, or when built without calibration.
+  DetectionResult detect(const RawFrame& left, const RawFrame& right);
   /// Quality, colour and 2D candidates only (colour, outline, roi, measured colour; no 3D fields).
-  /// @throw std::invalid_argument when `bgr` is not a non-empty BGR8 image.
-  DetectionResult detect2d(const cv::Mat& bgr);
+  /// @throw std::invalid_argument when `frame` is empty.
+  DetectionResult detect2d(const RawFrame& frame);
 
   const DetectorConfig& config() const { return config_; }
 
  private:
   /// Stereo, clustering and shape of one candidate (thread-safe: reads only).
-  std::optional<Detection> measure(const Candidate& c, const cv::Mat& left_bgr, const cv::Mat& right_bgr,
+  std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t) const;
 
   DetectorConfig config_;

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/detection/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -49,12 +50,12 @@ class RoiStereoMatcher {
   RoiStereoMatcher(const StereoCalibration& calibration, const StereoMatchConfig& config);
 
   /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
-  /// `left`/`right` are raw (distorted) frames of the calibrated size, both CV_8UC1 or both CV_8UC3 (BGR:
-  /// only the bands are converted to grey). `right_colour` (optional: empty to skip) is the raw right
+  /// `left`/`right` are raw (distorted) frames of the calibrated size (only the pixels the bands read are
+  /// converted to grey). `right_colour` (optional: empty to skip) is the raw right
   /// frame's mask of the designated colours, for the silhouette disparity: the whole frame, or a part of it
   /// at `right_colour_origin` holding at least rightColourRegion(roi).
   /// @throw std::invalid_argument on wrong types or sizes, or an roi or right_colour outside the image.
-  RoiPoints match(const cv::Mat& left, const cv::Mat& right, const cv::Rect& roi, const cv::Mat& mask,
+  RoiPoints match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                   const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point()) const;
 
   /// The part of the raw right frame whose colour mask the silhouette disparity of `roi` reads (empty when

@@ -9,15 +9,16 @@
 
 #include <string>
 
+#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/detection/stereo_calibration.h"
 
 namespace underwater_stereo {
 namespace ros_glue {
 
 struct StereoInput {
-  /// BGR8 (Bayer demosaiced, RGB swapped, mono replicated); bgr8 input is shared, not copied: keep the
+  /// As received (rgb8 converted to BGR): the messages' buffers are shared, not copied, so keep the
   /// messages while these are used.
-  cv::Mat left, right;
+  RawFrame left, right;
   StereoCalibration calibration;
 };
 
