@@ -36,7 +36,7 @@ struct ColourMaskConfig {
   /// (the water's; never below saturation_floor_min, never above the class's own floor). 0 = off.
   double saturation_floor_factor = 4.0;
   int saturation_floor_min = 30;
-  int blur_px = 5;                   ///< box blur before HSV against sensor noise in dark frames; 0 or 1 = off
+  int blur_px = 5;                   ///< Gaussian blur (kernel size) before HSV against sensor noise in dark frames; 0 or 1 = off
   int open_kernel_px = 10;           ///< opening removes specks smaller than this (paper: 10x10); 0 or 1 = off
   int close_kernel_px = 10;          ///< closing fills holes smaller than this (paper: 10x10); 0 or 1 = off
 
