@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/colour_segmenter.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -96,26 +97,30 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int 
   }
   ColourMasks out;
   out.saturation_median = saturation_median >= 0 ? saturation_median : channelMedian(hsv, 1);
+  // inRange is single-threaded: the classes are thresholded in parallel.
+  out.classes.resize(config.classes.size());
+  cv::parallel_for_(cv::Range(0, static_cast<int>(config.classes.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) {
+      const ColourClass& c = config.classes[i];
+      cv::Mat& mask = out.classes[i];
+      int s_min = c.saturation_min;
+      if (config.saturation_floor_factor > 0) {
+        const int adaptive = static_cast<int>(std::lround(config.saturation_floor_factor * out.saturation_median));
+        s_min = std::min(s_min, std::max(config.saturation_floor_min, adaptive));
+      }
+      const cv::Scalar lo_sv(0, s_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
+      if (c.hue_min <= c.hue_max) {
+        cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
+      } else {  // wraps through 0 (red)
+        cv::Mat upper;
+        cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(179, hi_sv[1], hi_sv[2]), upper);
+        cv::inRange(hsv, cv::Scalar(0, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
+        mask |= upper;
+      }
+    }
+  });
   out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
-  for (const ColourClass& c : config.classes) {
-    cv::Mat mask;
-    int s_min = c.saturation_min;
-    if (config.saturation_floor_factor > 0) {
-      const int adaptive = static_cast<int>(std::lround(config.saturation_floor_factor * out.saturation_median));
-      s_min = std::min(s_min, std::max(config.saturation_floor_min, adaptive));
-    }
-    const cv::Scalar lo_sv(0, s_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
-    if (c.hue_min <= c.hue_max) {
-      cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
-    } else {  // wraps through 0 (red)
-      cv::Mat upper;
-      cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(179, hi_sv[1], hi_sv[2]), upper);
-      cv::inRange(hsv, cv::Scalar(0, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
-      mask |= upper;
-    }
-    out.any |= mask;
-    out.classes.push_back(mask);
-  }
+  for (const cv::Mat& mask : out.classes) out.any |= mask;
   auto kernel = [](int size) {
     return size > 1 ? cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)) : cv::Mat();
   };
