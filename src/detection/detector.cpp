@@ -250,7 +250,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) {
                    [&](int a, int b) { return front.candidates[a].roi.area() > front.candidates[b].roi.area(); });
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
-  cv::parallel_for_(cv::Range(0, n), [&](const cv::Range& range) {
+  auto measureRange = [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const int k = order[i];
       const Candidate& c = front.candidates[k];
@@ -267,7 +267,13 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) {
       }
       found[k] = measure(c, left, right, right_colour, origin, times[k]);
     }
-  });
+  };
+  // One object alone: OpenCV's own parallel loops (block matching's stripes, remaps) get both cores.
+  if (n == 1) {
+    measureRange(cv::Range(0, 1));
+  } else {
+    cv::parallel_for_(cv::Range(0, n), measureRange);
+  }
   for (int k = 0; k < n; ++k) {
     result.timings.colour_ms += times[k].colour_ms;
     result.timings.stereo_ms += times[k].stereo_ms;
