@@ -149,12 +149,9 @@ TEST(DetectorGraph, PlaybackGivesTheDetectionsOfTheSameFramesLive) {
   for (const auto& [stamp, found] : listener.objects) {
     const int k = static_cast<int>(std::lround((stamp.toSec() - start_time) * rate));
     const sim::RenderedPair pair = renderer.render(k / rate, k);
-    cv::Mat left, right;
-    const std::string code = pair.encoding;
-    cv_bridge::CvImage l(std_msgs::Header(), pair.encoding, pair.left), r(std_msgs::Header(), pair.encoding, pair.right);
-    left = cv_bridge::toCvCopy(l.toImageMsg(), "bgr8")->image;
-    right = cv_bridge::toCvCopy(r.toImageMsg(), "bgr8")->image;
-    const DetectionResult expected = live.detect(left, right);
+    // As the nodelet gets them: the camera's Bayer frames, unconverted.
+    const DetectionResult expected =
+        live.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)), RawFrame(pair.right, pixelLayoutOf(pair.encoding)));
     ASSERT_EQ(found->objects.size(), expected.objects.size()) << "frame " << k;
     for (std::size_t i = 0; i < expected.objects.size(); ++i) {
       EXPECT_EQ(found->objects[i].colour, expected.objects[i].colour);

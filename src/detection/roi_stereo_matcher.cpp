@@ -289,7 +289,8 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   const cv::Rect left_rect = silhouetteBox(box), span = silhouetteSpan(box);
   if (span.empty()) return std::numeric_limits<double>::quiet_NaN();
   const int span_x = span.x, span_width = span.width;
-  // Column profiles over every `row_step`-th row of left_rect, the right one over `right_cols`.
+  // Column profiles over every `row_step`-th row of left_rect (the right one over columns [right_x0, right_x1)),
+  // placed in the columns of `span`.
   auto profiles = [&](int row_step, int right_x0, int right_x1, std::vector<double>& left, std::vector<double>& right) {
     const cv::Rect right_rect(right_x0, left_rect.y, right_x1 - right_x0, left_rect.height);
     // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.

@@ -4,12 +4,17 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "underwater_stereo/detection/detector.h"
@@ -22,11 +27,21 @@ using namespace underwater_stereo;
 
 const char* kUsage =
     "usage: benchmark_detector --config detector.yaml [--frames N] [--rate HZ] [--repeat R] [--csv FILE]\n"
-    "                          [--summary] SCENE.yaml...\n"
+    "                          [--summary] [--pace HZ] [--opencv-threads N] SCENE.yaml...\n"
     "  Times the detector on frames 0..N-1 (default 10 at 2 Hz scene time) of each scene, R passes (default 5)\n"
     "  after one warm-up pass. Prints a Markdown table per scene (median per stage, end to end median and p99,\n"
     "  pairs/s); --csv writes one row per timed pair (scene, frame, objects, mean range, stage times);\n"
-    "  --summary ends with one line over all pairs: median_ms=.. p99_ms=.. pairs_per_s=..\n";
+    "  --summary ends with one line over all pairs: median_ms=.. p99_ms=.. pairs_per_s=..\n"
+    "  --pace HZ then runs 3 s of pairs per scene at HZ (as a camera delivers them) and prints the process's CPU\n"
+    "  time per pair and in cores (thread pools that spin between pairs count); --opencv-threads N sets\n"
+    "  cv::setNumThreads(N) (1: OpenCV single-threaded).\n";
+
+/// CPU time [s] this process has used (all threads, user + system).
+double processCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
 
 struct Pair {
   RawFrame left, right;  ///< as the camera sends them (Bayer): the detector's timing includes any conversion
@@ -39,6 +54,7 @@ int main(int argc, char** argv) {
   int frames = 10, repeat = 5;
   double rate = 2.0;
   bool summary = false;
+  double pace_hz = 0;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -55,6 +71,8 @@ int main(int argc, char** argv) {
     else if (a == "--repeat") repeat = std::stoi(value());
     else if (a == "--csv") csv_path = value();
     else if (a == "--summary") summary = true;
+    else if (a == "--pace") pace_hz = std::stod(value());
+    else if (a == "--opencv-threads") cv::setNumThreads(std::stoi(value()));
     else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       return 0;
@@ -62,7 +80,7 @@ int main(int argc, char** argv) {
       scenes.push_back(a);
     }
   }
-  if (config_path.empty() || scenes.empty() || frames < 1 || repeat < 1 || !(rate > 0)) {
+  if (config_path.empty() || scenes.empty() || frames < 1 || repeat < 1 || !(rate > 0) || pace_hz < 0) {
     std::cerr << kUsage;
     return 2;
   }
@@ -75,6 +93,7 @@ int main(int argc, char** argv) {
   std::cout << "| scene | pairs timed | objects per pair | quality | colour | contours | stereo | cluster | fit | "
                "end to end median ms | p99 ms | pairs/s |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::vector<double> all_totals;
+  std::vector<std::string> paced;
   try {
     const DetectorConfig config = loadDetectorConfigFile(config_path);
     for (const std::string& path : scenes) {
@@ -115,6 +134,26 @@ int main(int argc, char** argv) {
       for (int s = 0; s < 6; ++s) std::cout << " | " << std::setprecision(1) << tools::percentile(stage[s], 0.5);
       std::cout << " | " << tools::percentile(stage[6], 0.5) << " | " << tools::percentile(stage[6], 0.99) << " | "
                 << std::setprecision(1) << 1000.0 / mean_total << " |\n";
+      if (pace_hz > 0) {
+        const int n_paced = std::max(1, static_cast<int>(3.0 * pace_hz));
+        const auto start = std::chrono::steady_clock::now();
+        const double cpu_start = processCpuSeconds();
+        for (int i = 0; i < n_paced; ++i) {
+          detector.detect(pairs[i % frames].left, pairs[i % frames].right);
+          std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                    std::chrono::duration<double>((i + 1) / pace_hz)));
+        }
+        const double cpu = processCpuSeconds() - cpu_start;
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::ostringstream line;
+        line << std::fixed << std::setprecision(1) << "| " << path.substr(path.find_last_of('/') + 1) << " | " << pace_hz
+             << " | " << 1000.0 * cpu / n_paced << " | " << std::setprecision(2) << cpu / wall << " |";
+        paced.push_back(line.str());
+      }
+    }
+    if (!paced.empty()) {
+      std::cout << "\n| scene | paced at [Hz] | CPU per pair [ms] | CPU [cores] |\n|---|---|---|---|\n";
+      for (const std::string& line : paced) std::cout << line << "\n";
     }
   } catch (const std::exception& e) {
     std::cerr << "benchmark_detector: " << e.what() << "\n";

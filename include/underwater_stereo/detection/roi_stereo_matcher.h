@@ -2,9 +2,12 @@
 #pragma once
 /// @file Step 4 of the pipeline: stereo matching only inside a region of interest.
 ///
-/// Rectification maps for the whole frame are computed once from the calibration; per candidate only the
-/// band of rows it covers is rectified (both cameras, the same rectangle), matched with semi-global block
-/// matching over the disparity range of the workspace, and its pixels reprojected to 3D.
+/// Rectification maps for the whole frame are computed once from the calibration. Per candidate: the
+/// disparity of its colour silhouette (left mask against the right frame's colour mask, over the
+/// workspace's disparity range), then only the band of rows it covers is rectified (both cameras, only
+/// the raw pixels the band reads are converted to grey), matched with semi-global block matching over the
+/// disparities of the object's expected depth relief around the silhouette's, and its pixels reprojected
+/// to 3D.
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
