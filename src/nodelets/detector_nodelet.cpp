@@ -232,7 +232,11 @@ class DetectorNodelet : public nodelet::Nodelet {
         waiting_ = Pair{};
         has_waiting_ = false;
       }
-      process(pair);
+      try {
+        process(pair);
+      } catch (const std::exception& e) {  // cv::Exception included: a pair must never take the manager down
+        badInput(std::string("processing failed: ") + e.what());
+      }
     }
   }
 
