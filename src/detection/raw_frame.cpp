@@ -4,7 +4,9 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace underwater_stereo {
 namespace {
@@ -67,13 +69,19 @@ cv::Mat demosaic(const cv::Mat& mosaic, PixelLayout layout, const cv::Rect& regi
 
 }  // namespace
 
+std::optional<PixelLayout> layoutOfEncoding(const std::string& encoding) {
+  static const std::pair<const char*, PixelLayout> kLayouts[] = {
+      {"bgr8", PixelLayout::kBgr},               {"mono8", PixelLayout::kMono},
+      {"bayer_rggb8", PixelLayout::kBayerRggb}, {"bayer_bggr8", PixelLayout::kBayerBggr},
+      {"bayer_gbrg8", PixelLayout::kBayerGbrg}, {"bayer_grbg8", PixelLayout::kBayerGrbg}};
+  for (const auto& [name, layout] : kLayouts) {
+    if (encoding == name) return layout;
+  }
+  return std::nullopt;
+}
+
 PixelLayout pixelLayoutOf(const std::string& encoding) {
-  if (encoding == "bgr8") return PixelLayout::kBgr;
-  if (encoding == "mono8") return PixelLayout::kMono;
-  if (encoding == "bayer_rggb8") return PixelLayout::kBayerRggb;
-  if (encoding == "bayer_bggr8") return PixelLayout::kBayerBggr;
-  if (encoding == "bayer_gbrg8") return PixelLayout::kBayerGbrg;
-  if (encoding == "bayer_grbg8") return PixelLayout::kBayerGrbg;
+  if (const auto layout = layoutOfEncoding(encoding)) return *layout;
   throw std::invalid_argument("pixelLayoutOf: encoding '" + encoding +
                               "' is not bgr8, mono8 or bayer_rggb8/bggr8/gbrg8/grbg8");
 }

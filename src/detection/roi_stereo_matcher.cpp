@@ -185,8 +185,9 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   }
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
-  int min_disparity = static_cast<int>(std::floor(d_min));
-  int num_disparities = ((static_cast<int>(std::ceil(d_max)) - min_disparity + 15) / 16) * 16;
+  const auto [d_lo, d_hi] = workspaceDisparities();  // d_min and d_max in whole pixels, outwards
+  int min_disparity = d_lo;
+  int num_disparities = ((d_hi - d_lo + 15) / 16) * 16;
   const cv::Rect box = rectifiedBox(roi);
   RoiPoints out;
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
@@ -202,8 +203,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
       // surface lies up to relief = d * (extent / 2) / f pixels of disparity in front of the outline (a
       // sphere's rim), or about relief / 2 either side of the outline's shift (a tilted panel).
       const double relief = out.silhouette_disparity * 0.5 * std::max(box.width, box.height) / f;
-      min_disparity = std::max(static_cast<int>(std::floor(d_min)),
-                               static_cast<int>(std::floor(out.silhouette_disparity - 0.5 * relief)) - kDisparitySlack);
+      min_disparity = std::max(d_lo, static_cast<int>(std::floor(out.silhouette_disparity - 0.5 * relief)) - kDisparitySlack);
       num_disparities = ((static_cast<int>(std::ceil(1.5 * relief)) + 2 * kDisparitySlack + 15) / 16) * 16;
     }
   }

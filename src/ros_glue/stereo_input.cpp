@@ -54,9 +54,8 @@ CameraCalibration toCalibration(const sensor_msgs::CameraInfo& info, const senso
 }  // namespace
 
 bool acceptedEncoding(const std::string& e) {
-  namespace enc = sensor_msgs::image_encodings;
-  return e == enc::BAYER_RGGB8 || e == enc::BAYER_BGGR8 || e == enc::BAYER_GBRG8 || e == enc::BAYER_GRBG8 ||
-         e == enc::BGR8 || e == enc::RGB8 || e == enc::MONO8;
+  // The detector reads these as they are; rgb8 is converted to bgr8.
+  return e == sensor_msgs::image_encodings::RGB8 || layoutOfEncoding(e).has_value();
 }
 
 StereoInput toStereoInput(const sensor_msgs::Image& left, const sensor_msgs::CameraInfo& left_info,

@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <optional>
 #include <string>
 
 namespace underwater_stereo {
@@ -13,7 +14,9 @@ namespace underwater_stereo {
 /// (as sensor_msgs' bayer_rggb8 etc.).
 enum class PixelLayout { kBgr, kMono, kBayerRggb, kBayerBggr, kBayerGbrg, kBayerGrbg };
 
-/// The layout of a sensor_msgs encoding (bgr8, mono8, bayer_rggb8/bggr8/gbrg8/grbg8).
+/// The layout of a sensor_msgs encoding (bgr8, mono8, bayer_rggb8/bggr8/gbrg8/grbg8); none for any other.
+std::optional<PixelLayout> layoutOfEncoding(const std::string& encoding);
+/// layoutOfEncoding(), for an encoding that must have one.
 /// @throw std::invalid_argument for any other encoding.
 PixelLayout pixelLayoutOf(const std::string& encoding);
 
