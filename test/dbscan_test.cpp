@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <set>
 
 #include "underwater_stereo/detection/dbscan.h"
 
@@ -24,6 +26,72 @@ TEST(Dbscan, SeparatesBlobsAndDropsNoise) {
   for (int i : clusters[1]) {
     EXPECT_GE(i, 300);
     EXPECT_LT(i, 420);
+  }
+}
+
+/// Point-wise DBSCAN by brute force: each point's cluster id (-1: noise) and whether it is a core point.
+std::pair<std::vector<int>, std::vector<bool>> bruteForceDbscan(const std::vector<Eigen::Vector3f>& pts, float eps,
+                                                                int min_points) {
+  const int n = static_cast<int>(pts.size());
+  std::vector<std::vector<int>> near(n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if ((pts[i] - pts[j]).norm() < eps) near[i].push_back(j);
+    }
+  }
+  std::vector<bool> core(n);
+  for (int i = 0; i < n; ++i) core[i] = static_cast<int>(near[i].size()) >= min_points;
+  std::vector<int> id(n, -1);
+  int next = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!core[i] || id[i] >= 0) continue;
+    std::vector<int> stack{i};
+    id[i] = next;
+    while (!stack.empty()) {
+      const int k = stack.back();
+      stack.pop_back();
+      for (int j : near[k]) {
+        if (id[j] >= 0) continue;
+        id[j] = next;
+        if (core[j]) stack.push_back(j);
+      }
+    }
+    ++next;
+  }
+  return {id, core};
+}
+
+// Points on a lattice 0.6 eps apart lie in cells (eps/2) of their own, so the cell-wise DBSCAN must agree
+// with point-wise DBSCAN: the same points clustered, and core points together exactly when they are there
+// (border points may go to either neighbouring cluster).
+TEST(Dbscan, AgreesWithBruteForceWhereEveryPointHasItsOwnCell) {
+  const float eps = 0.05F;
+  for (unsigned seed = 1; seed <= 20; ++seed) {
+    std::mt19937 rng(seed);
+    std::bernoulli_distribution occupied(0.3 + 0.03 * seed);
+    std::vector<Eigen::Vector3f> pts;
+    for (int x = -6; x < 6; ++x) {
+      for (int y = -6; y < 6; ++y) {
+        for (int z = 20; z < 28; ++z) {
+          if (occupied(rng)) pts.emplace_back(Eigen::Vector3f(x + 0.5F, y + 0.5F, z + 0.5F) * 0.6F * eps);
+        }
+      }
+    }
+    const int min_points = 3 + static_cast<int>(seed % 5);
+    const auto [expected, core] = bruteForceDbscan(pts, eps, min_points);
+    std::vector<int> got(pts.size(), -1);
+    const auto clusters = dbscan(pts, ClusterConfig{eps, min_points});
+    for (std::size_t c = 0; c < clusters.size(); ++c) {
+      for (int i : clusters[c]) got[i] = static_cast<int>(c);
+    }
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      ASSERT_EQ(got[i] >= 0, expected[i] >= 0) << "seed " << seed << " point " << i;
+      if (!core[i]) continue;
+      for (std::size_t j = 0; j < i; ++j) {
+        if (!core[j]) continue;
+        ASSERT_EQ(got[i] == got[j], expected[i] == expected[j]) << "seed " << seed << " points " << i << ", " << j;
+      }
+    }
   }
 }
 

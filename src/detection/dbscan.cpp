@@ -1,11 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/dbscan.h"
 
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
@@ -45,6 +42,49 @@ std::vector<Voxel> voxelize(const std::vector<Eigen::Vector3f>& points, float ce
   return voxels;
 }
 
+/// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide grid cube they
+/// lie in, so a query reads the 3 x 3 runs of cubes around its own (everything within the radius lies
+/// there). A few times faster than a kd-tree for the few hundred centroids of an object.
+class RadiusGrid {
+ public:
+  RadiusGrid(const std::vector<Voxel>& voxels, float radius) : radius_(radius) {
+    entries_.reserve(voxels.size());
+    for (std::size_t i = 0; i < voxels.size(); ++i) entries_.push_back({cubeOf(voxels[i].centroid), voxels[i].centroid, int(i)});
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.cube < b.cube; });
+  }
+
+  /// Indices of the centroids strictly closer than the radius to `p` (p's own included).
+  void neighbours(const Eigen::Vector3f& p, std::vector<int>& out) const {
+    out.clear();
+    const Cube c = cubeOf(p);
+    const float r2 = radius_ * radius_;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        const Cube lo{c[0] + dx, c[1] + dy, c[2] - 1}, hi{c[0] + dx, c[1] + dy, c[2] + 1};
+        auto it = std::lower_bound(entries_.begin(), entries_.end(), lo, [](const Entry& e, const Cube& k) { return e.cube < k; });
+        for (; it != entries_.end() && !(hi < it->cube); ++it) {
+          if ((it->centroid - p).squaredNorm() < r2) out.push_back(it->index);
+        }
+      }
+    }
+  }
+
+ private:
+  using Cube = std::array<int, 3>;
+  struct Entry {
+    Cube cube;
+    Eigen::Vector3f centroid;
+    int index;
+  };
+  Cube cubeOf(const Eigen::Vector3f& p) const {
+    return {static_cast<int>(std::floor(p.x() / radius_)), static_cast<int>(std::floor(p.y() / radius_)),
+            static_cast<int>(std::floor(p.z() / radius_))};
+  }
+
+  float radius_;
+  std::vector<Entry> entries_;
+};
+
 }  // namespace
 
 std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points, const ClusterConfig& config) {
@@ -55,19 +95,13 @@ std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points,
   // the cell size.
   const std::vector<Voxel> voxels = voxelize(points, static_cast<float>(config.eps_m / 2));
   if (voxels.empty()) return clusters;
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
-  cloud->reserve(voxels.size());
-  for (const Voxel& v : voxels) cloud->push_back(pcl::PointXYZ(v.centroid.x(), v.centroid.y(), v.centroid.z()));
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(cloud);
+  const RadiusGrid grid(voxels, static_cast<float>(config.eps_m));
 
   constexpr int kUnvisited = -2, kNoise = -1;
   std::vector<int> label(voxels.size(), kUnvisited);
   std::vector<int> neighbours, seeds;
-  std::vector<float> distances;
-  const auto radius = static_cast<float>(config.eps_m);
   auto isCore = [&](int v) {
-    tree.radiusSearch(cloud->points[v], radius, neighbours, distances);
+    grid.neighbours(voxels[v].centroid, neighbours);
     std::size_t weight = 0;
     for (const int n : neighbours) weight += voxels[n].members.size();
     return weight >= static_cast<std::size_t>(config.min_points);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// @file DBSCAN clustering of 3D points over a KD-tree.
+/// @file DBSCAN clustering of 3D points (cells eps/2 wide, neighbours from a grid eps wide).
 
 #include <Eigen/Core>
 
