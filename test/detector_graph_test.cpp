@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The detector nodelet in a running graph: fed by the simulated head (Live), by `rosbag play --clock` of a
-// rendered bag (Playback), or by this test's own messages (BadInput). One executable; each .test file picks
-// its case with --gtest_filter.
+// rendered bag (Playback), or by this test's own messages (BadInput, Burst). One executable; each .test file
+// picks its case with --gtest_filter.
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
@@ -40,6 +40,7 @@ struct Listener {
   void onObjects(const DetectedObjectArrayConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     objects[m->header.stamp] = m;
+    arrival.push_back(m->header.stamp);
   }
   void onTruth(const GroundTruthConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
@@ -57,6 +58,7 @@ struct Listener {
   }
   std::mutex mutex;
   std::map<ros::Time, DetectedObjectArrayConstPtr> objects;
+  std::vector<ros::Time> arrival;  ///< objects stamps in the order they came
   std::map<ros::Time, GroundTruthConstPtr> truths;
   std::map<ros::Time, visualization_msgs::MarkerArrayConstPtr> markers;
   std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics;
@@ -169,10 +171,10 @@ namespace {
 /// Publishes hand-made pairs on /stereo/left|right/image_raw + camera_info.
 struct Publisher {
   explicit Publisher(ros::NodeHandle& nh)
-      : left(nh.advertise<sensor_msgs::Image>("/stereo/left/image_raw", 5)),
-        right(nh.advertise<sensor_msgs::Image>("/stereo/right/image_raw", 5)),
-        left_info(nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 5)),
-        right_info(nh.advertise<sensor_msgs::CameraInfo>("/stereo/right/camera_info", 5)) {}
+      : left(nh.advertise<sensor_msgs::Image>("/stereo/left/image_raw", 50)),
+        right(nh.advertise<sensor_msgs::Image>("/stereo/right/image_raw", 50)),
+        left_info(nh.advertise<sensor_msgs::CameraInfo>("/stereo/left/camera_info", 50)),
+        right_info(nh.advertise<sensor_msgs::CameraInfo>("/stereo/right/camera_info", 50)) {}
 
   void send(sensor_msgs::Image l, sensor_msgs::CameraInfo li, sensor_msgs::Image r, sensor_msgs::CameraInfo ri,
             ros::Time stamp, double right_offset_s = 0.0) {
@@ -188,6 +190,80 @@ struct Publisher {
 };
 
 }  // namespace
+
+/// Value of `key` in a diagnostic status; "" if absent.
+std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key) {
+  for (const auto& kv : s.values) {
+    if (kv.key == key) return kv.value;
+  }
+  return "";
+}
+
+// Pairs sent faster than they are processed, slow ones (two objects) between fast ones (black frames: spoiled,
+// no search), to several workers: every result belongs to its own pair, results come in the order the pairs
+// were sent, and every synchronised pair is either published, dropped or bad input.
+TEST(DetectorGraph, BurstOfPairsIsPublishedInArrivalOrderByParallelWorkers) {
+  ros::NodeHandle nh;
+  Listener listener(nh);
+  Publisher pub(nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  ASSERT_TRUE(waitFor([&] { return pub.left.getNumSubscribers() > 0 && pub.right_info.getNumSubscribers() > 0; }, 30));
+  ros::WallDuration(1.0).sleep();
+
+  sim::Scene scene = sim::loadSceneFile(kSmallPool);
+  scene.sensor.encoding = "bgr8";
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0, 0);
+  const sensor_msgs::Image left = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.left).toImageMsg();
+  const sensor_msgs::Image right = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.right).toImageMsg();
+  const cv::Mat black_frame = cv::Mat::zeros(pair.left.size(), CV_8UC3);
+  const sensor_msgs::Image black = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", black_frame).toImageMsg();
+  const sensor_msgs::CameraInfo left_info = ros_glue::toCameraInfo(renderer.calibration().left);
+  const sensor_msgs::CameraInfo right_info = ros_glue::toCameraInfo(renderer.calibration().right);
+
+  constexpr int kPairs = 24;
+  const ros::Time first(2000.0);
+  for (int i = 0; i < kPairs; ++i) {
+    const bool slow = i % 2 == 0;
+    pub.send(slow ? left : black, left_info, slow ? right : black, right_info, first + ros::Duration(0.1 * i));
+    ros::WallDuration(0.002).sleep();
+  }
+  // Settled: the diagnostics' counters account for every pair (published once a second).
+  std::string received, processed, dropped, bad;
+  const bool settled = waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(listener.mutex);
+        if (listener.diagnostics.empty()) return false;
+        const auto& d = listener.diagnostics.back();
+        received = diagnosticValue(d, "pairs received");
+        processed = diagnosticValue(d, "pairs processed");
+        dropped = diagnosticValue(d, "pairs dropped (detector busy)");
+        bad = diagnosticValue(d, "bad input pairs");
+        return !received.empty() && std::stol(received) > 0 &&
+               std::stol(processed) + std::stol(dropped) + std::stol(bad) == std::stol(received) &&
+               std::stol(processed) == static_cast<long>(listener.arrival.size());
+      },
+      30.0);
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  EXPECT_TRUE(settled) << "received " << received << ", processed " << processed << ", dropped " << dropped
+                       << ", bad " << bad << ", published " << listener.arrival.size();
+  std::cout << "received " << received << ", processed " << processed << ", dropped " << dropped << std::endl;
+  EXPECT_EQ(bad, "0");
+  ASSERT_GE(listener.arrival.size(), 4U) << "too few pairs were processed to see their order";
+  for (std::size_t k = 1; k < listener.arrival.size(); ++k) {
+    EXPECT_LT(listener.arrival[k - 1], listener.arrival[k]) << "results published out of order at " << k;
+  }
+  for (const auto& [stamp, found] : listener.objects) {
+    const int i = static_cast<int>(std::lround((stamp - first).toSec() / 0.1));
+    if (i % 2 == 0) {
+      EXPECT_EQ(found->objects.size(), 2U) << "pair " << i << " (two objects)";
+    } else {
+      EXPECT_TRUE(found->objects.empty()) << "pair " << i << " (black)";
+    }
+  }
+  spinner.stop();
+}
 
 TEST(DetectorGraph, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
   ros::NodeHandle nh;

@@ -178,7 +178,7 @@ Detector::Detector(const DetectorConfig& config) : config_(config), search_confi
 
 Detector::~Detector() = default;
 
-DetectionResult Detector::detect2d(const RawFrame& frame) {
+DetectionResult Detector::detect2d(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::detect2d: empty frame");
   DetectionResult result;
   Stopwatch watch, total;
@@ -217,7 +217,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   return d;
 }
 
-DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) {
+DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) const {
   if (!matcher_) throw std::invalid_argument("Detector::detect: built without calibration (2D only)");
   if (left.empty() || right.empty()) throw std::invalid_argument("Detector::detect: empty frame");
   const CameraCalibration& cal = matcher_->calibration().left;

@@ -45,7 +45,8 @@ struct DetectionResult {
   StageTimings timings;
 };
 
-/// Runs the pipeline. Not thread-safe: one instance per thread (it caches rectification maps).
+/// Runs the pipeline. detect() and detect2d() only read the detector (its configuration and rectification
+/// maps): one instance may serve several threads at once.
 class Detector {
  public:
   /// 3D detector. @throw std::invalid_argument when the config or calibration does not validate.
@@ -57,15 +58,15 @@ class Detector {
   /// Raw (distorted) left and right frames of the calibrated size, as they arrive (BGR8, grey or Bayer: a
   /// cv::Mat converts to a BGR or grey RawFrame). A spoiled frame is reported with no objects.
   /// @throw std::invalid_argument on empty frames or wrong sizes, or when built without calibration.
-  DetectionResult detect(const RawFrame& left, const RawFrame& right);
+  DetectionResult detect(const RawFrame& left, const RawFrame& right) const;
   /// Quality, colour and 2D candidates only (colour, outline, roi, measured colour; no 3D fields).
   /// @throw std::invalid_argument when `frame` is empty.
-  DetectionResult detect2d(const RawFrame& frame);
+  DetectionResult detect2d(const RawFrame& frame) const;
 
   const DetectorConfig& config() const { return config_; }
 
  private:
-  /// Stereo, clustering and shape of one candidate (thread-safe: reads only).
+  /// Stereo, clustering and shape of one candidate.
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t) const;
 
