@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/colour_segmenter.h"
 
-#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/image_checks.h"
@@ -97,30 +97,40 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int 
   }
   ColourMasks out;
   out.saturation_median = saturation_median >= 0 ? saturation_median : channelMedian(hsv, 1);
-  // inRange is single-threaded: the classes are thresholded in parallel.
+  // All classes in one pass (up to 8 at a time): per pixel, the classes its hue, its saturation and its
+  // value each admit are bits in three tables; a class holds where all three admit it.
   out.classes.resize(config.classes.size());
-  cv::parallel_for_(cv::Range(0, static_cast<int>(config.classes.size())), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
-      const ColourClass& c = config.classes[i];
-      cv::Mat& mask = out.classes[i];
+  out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
+  cv::Mat bits(hsv.size(), CV_8UC1), bit;
+  for (std::size_t first = 0; first < config.classes.size(); first += 8) {
+    const std::size_t count = std::min<std::size_t>(8, config.classes.size() - first);
+    std::uint8_t hue_bits[256] = {}, saturation_bits[256] = {}, value_bits[256] = {};
+    for (std::size_t k = 0; k < count; ++k) {
+      const ColourClass& c = config.classes[first + k];
+      const auto flag = static_cast<std::uint8_t>(1U << k);
       int s_min = c.saturation_min;
       if (config.saturation_floor_factor > 0) {
         const int adaptive = static_cast<int>(std::lround(config.saturation_floor_factor * out.saturation_median));
         s_min = std::min(s_min, std::max(config.saturation_floor_min, adaptive));
       }
-      const cv::Scalar lo_sv(0, s_min, c.value_min), hi_sv(0, c.saturation_max, c.value_max);
-      if (c.hue_min <= c.hue_max) {
-        cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
-      } else {  // wraps through 0 (red)
-        cv::Mat upper;
-        cv::inRange(hsv, cv::Scalar(c.hue_min, lo_sv[1], lo_sv[2]), cv::Scalar(179, hi_sv[1], hi_sv[2]), upper);
-        cv::inRange(hsv, cv::Scalar(0, lo_sv[1], lo_sv[2]), cv::Scalar(c.hue_max, hi_sv[1], hi_sv[2]), mask);
-        mask |= upper;
+      for (int h = 0; h < 180; ++h) {
+        const bool in = c.hue_min <= c.hue_max ? (h >= c.hue_min && h <= c.hue_max) : (h >= c.hue_min || h <= c.hue_max);
+        if (in) hue_bits[h] |= flag;
       }
+      for (int v = s_min; v <= c.saturation_max; ++v) saturation_bits[v] |= flag;
+      for (int v = c.value_min; v <= c.value_max; ++v) value_bits[v] |= flag;
     }
-  });
-  out.any = cv::Mat::zeros(bgr.size(), CV_8UC1);
-  for (const cv::Mat& mask : out.classes) out.any |= mask;
+    for (int y = 0; y < hsv.rows; ++y) {
+      const auto* p = hsv.ptr<std::uint8_t>(y);
+      auto* b = bits.ptr<std::uint8_t>(y);
+      for (int x = 0; x < hsv.cols; ++x, p += 3) b[x] = hue_bits[p[0]] & saturation_bits[p[1]] & value_bits[p[2]];
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      cv::bitwise_and(bits, cv::Scalar(1U << k), bit);
+      cv::compare(bit, 0, out.classes[first + k], cv::CMP_NE);
+    }
+    out.any.setTo(255, bits);
+  }
   auto kernel = [](int size) {
     return size > 1 ? cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)) : cv::Mat();
   };

@@ -4,6 +4,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <climits>
 #include <cmath>
 #include <stdexcept>
 
@@ -109,15 +110,26 @@ double centroidShift(const std::vector<double>& left, const std::vector<double>&
 cv::Mat everyNthRow(const cv::Mat& m, int n) { return cv::Mat((m.rows + n - 1) / n, m.cols, m.type(), m.data, m.step[0] * n); }
 
 /// The raw pixels a remap through `map_xy` reads (bilinear: also the next column and row), inside the frame;
-/// empty when it reads none.
+/// empty when it reads none. Rectification is smooth and invertible, so the extremes lie on the map's border:
+/// only its border is read.
 cv::Rect sourceRegion(const cv::Mat& map_xy, const cv::Size& frame) {
-  cv::Mat xy[2];
-  cv::split(map_xy, xy);
-  double x0 = 0, x1 = 0, y0 = 0, y1 = 0;
-  cv::minMaxLoc(xy[0], &x0, &x1);
-  cv::minMaxLoc(xy[1], &y0, &y1);
-  return cv::Rect(cv::Point(static_cast<int>(x0), static_cast<int>(y0)), cv::Point(static_cast<int>(x1) + 2, static_cast<int>(y1) + 2)) &
-         cv::Rect(cv::Point(), frame);
+  CV_Assert(map_xy.type() == CV_16SC2 && !map_xy.empty());
+  int x0 = INT_MAX, x1 = INT_MIN, y0 = INT_MAX, y1 = INT_MIN;
+  auto take = [&](const cv::Vec2s& p) {
+    x0 = std::min<int>(x0, p[0]);
+    x1 = std::max<int>(x1, p[0]);
+    y0 = std::min<int>(y0, p[1]);
+    y1 = std::max<int>(y1, p[1]);
+  };
+  for (const int v : {0, map_xy.rows - 1}) {
+    const auto* row = map_xy.ptr<cv::Vec2s>(v);
+    for (int u = 0; u < map_xy.cols; ++u) take(row[u]);
+  }
+  for (int v = 0; v < map_xy.rows; ++v) {
+    take(map_xy.at<cv::Vec2s>(v, 0));
+    take(map_xy.at<cv::Vec2s>(v, map_xy.cols - 1));
+  }
+  return cv::Rect(cv::Point(x0, y0), cv::Point(x1 + 2, y1 + 2)) & cv::Rect(cv::Point(), frame);
 }
 
 /// `band` of a raw frame rectified through the maps, as grey: only the raw pixels it reads are converted.
