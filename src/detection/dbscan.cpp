@@ -5,7 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 
 namespace underwater_stereo {
 
@@ -18,28 +18,47 @@ std::vector<std::string> ClusterConfig::validate() const {
 
 namespace {
 
-/// Points merged into cubic cells: centroid and the indices of the points in it.
-struct Voxel {
-  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  std::vector<int> members;
+/// Points merged into cubic cells, in the order of their first point: cell i holds the points
+/// members[first[i]] .. members[first[i + 1] - 1] (ascending), whose mean is centroid[i].
+struct Cells {
+  std::vector<int> members, first;
+  std::vector<Eigen::Vector3f> centroid;
+
+  std::size_t size() const { return centroid.size(); }
+  int weight(int i) const { return first[i + 1] - first[i]; }
 };
 
-std::vector<Voxel> voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
-  std::unordered_map<std::int64_t, int> index;
-  std::vector<Voxel> voxels;
+/// Sorting (cell, point) pairs instead of a hash map of growing lists: no allocation per cell.
+Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
+  std::vector<std::pair<std::int64_t, int>> keyed;
+  keyed.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
     if (!p.allFinite()) continue;
     const auto key = [&](float v) { return static_cast<std::int64_t>(std::floor(v / cell)) & 0x1FFFFF; };
-    const std::int64_t k = key(p.x()) | (key(p.y()) << 21) | (key(p.z()) << 42);
-    const auto [it, added] = index.emplace(k, static_cast<int>(voxels.size()));
-    if (added) voxels.emplace_back();
-    Voxel& v = voxels[it->second];
-    v.centroid += p;
-    v.members.push_back(static_cast<int>(i));
+    keyed.emplace_back(key(p.x()) | (key(p.y()) << 21) | (key(p.z()) << 42), static_cast<int>(i));
   }
-  for (Voxel& v : voxels) v.centroid /= static_cast<float>(v.members.size());
-  return voxels;
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::pair<int, int>> runs;  // (first point, start in keyed) per cell
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    if (k == 0 || keyed[k].first != keyed[k - 1].first) runs.emplace_back(keyed[k].second, static_cast<int>(k));
+  }
+  std::sort(runs.begin(), runs.end());
+  Cells cells;
+  cells.members.reserve(keyed.size());
+  cells.first.reserve(runs.size() + 1);
+  cells.centroid.reserve(runs.size());
+  for (const auto& [first_point, start] : runs) {
+    cells.first.push_back(static_cast<int>(cells.members.size()));
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (std::size_t k = start; k < keyed.size() && keyed[k].first == keyed[start].first; ++k) {
+      cells.members.push_back(keyed[k].second);
+      sum += points[keyed[k].second];
+    }
+    cells.centroid.push_back(sum / static_cast<float>(cells.members.size() - cells.first.back()));
+  }
+  cells.first.push_back(static_cast<int>(cells.members.size()));
+  return cells;
 }
 
 /// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide grid cube they
@@ -47,9 +66,9 @@ std::vector<Voxel> voxelize(const std::vector<Eigen::Vector3f>& points, float ce
 /// there). A few times faster than a kd-tree for the few hundred centroids of an object.
 class RadiusGrid {
  public:
-  RadiusGrid(const std::vector<Voxel>& voxels, float radius) : radius_(radius) {
-    entries_.reserve(voxels.size());
-    for (std::size_t i = 0; i < voxels.size(); ++i) entries_.push_back({cubeOf(voxels[i].centroid), voxels[i].centroid, int(i)});
+  RadiusGrid(const std::vector<Eigen::Vector3f>& centroids, float radius) : radius_(radius) {
+    entries_.reserve(centroids.size());
+    for (std::size_t i = 0; i < centroids.size(); ++i) entries_.push_back({cubeOf(centroids[i]), centroids[i], int(i)});
     std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.cube < b.cube; });
   }
 
@@ -93,18 +112,18 @@ std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points,
   // DBSCAN over cells half of eps wide, each weighted by its points: on dense stereo surfaces every
   // point has hundreds of neighbours, cells a handful; the result differs from point-wise DBSCAN only by
   // the cell size.
-  const std::vector<Voxel> voxels = voxelize(points, static_cast<float>(config.eps_m / 2));
-  if (voxels.empty()) return clusters;
-  const RadiusGrid grid(voxels, static_cast<float>(config.eps_m));
+  const Cells voxels = voxelize(points, static_cast<float>(config.eps_m / 2));
+  if (voxels.size() == 0) return clusters;
+  const RadiusGrid grid(voxels.centroid, static_cast<float>(config.eps_m));
 
   constexpr int kUnvisited = -2, kNoise = -1;
   std::vector<int> label(voxels.size(), kUnvisited);
   std::vector<int> neighbours, seeds;
   auto isCore = [&](int v) {
-    grid.neighbours(voxels[v].centroid, neighbours);
-    std::size_t weight = 0;
-    for (const int n : neighbours) weight += voxels[n].members.size();
-    return weight >= static_cast<std::size_t>(config.min_points);
+    grid.neighbours(voxels.centroid[v], neighbours);
+    int weight = 0;
+    for (const int n : neighbours) weight += voxels.weight(n);
+    return weight >= config.min_points;
   };
   std::vector<std::vector<int>> voxel_clusters;
   for (std::size_t i = 0; i < voxels.size(); ++i) {
@@ -137,7 +156,9 @@ std::vector<std::vector<int>> dbscan(const std::vector<Eigen::Vector3f>& points,
   }
   for (const auto& vc : voxel_clusters) {
     clusters.emplace_back();
-    for (const int v : vc) clusters.back().insert(clusters.back().end(), voxels[v].members.begin(), voxels[v].members.end());
+    for (const int v : vc) {
+      clusters.back().insert(clusters.back().end(), voxels.members.begin() + voxels.first[v], voxels.members.begin() + voxels.first[v + 1]);
+    }
     std::sort(clusters.back().begin(), clusters.back().end());
   }
   std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
