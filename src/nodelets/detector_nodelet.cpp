@@ -105,7 +105,7 @@ class DetectorNodelet : public nodelet::Nodelet {
       std::lock_guard<std::mutex> lock(mutex_);
       stopping_ = true;
     }
-    wake_.notify_all();
+    for (auto& h : handovers_) h->wake.notify_all();
     turn_passed_.notify_all();
     for (std::thread& w : workers_) w.join();
   }
@@ -181,7 +181,8 @@ class DetectorNodelet : public nodelet::Nodelet {
       // same cores (and ~25 % more CPU per pair spent handing work between them).
       cv::setNumThreads(1);
     }
-    for (int i = 0; i < worker_threads; ++i) workers_.emplace_back([this] { work(); });
+    for (int i = 0; i < worker_threads; ++i) handovers_.push_back(std::make_unique<Handover>());
+    for (int i = 0; i < worker_threads; ++i) workers_.emplace_back([this, i] { work(i); });
     left_topic_ = nh.resolveName("left/image_raw");
     right_topic_ = nh.resolveName("right/image_raw");
     image_transport::ImageTransport it(nh);
@@ -239,27 +240,41 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onPair(const ImageConstPtr& left, const CameraInfoConstPtr& left_info, const ImageConstPtr& right,
               const CameraInfoConstPtr& right_info) {
     ++received_;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      if (has_waiting_) ++dropped_;
-      waiting_ = Pair{left, right, left_info, right_info};
-      has_waiting_ = true;
+    std::lock_guard<std::mutex> lock(mutex_);
+    Pair pair{left, right, left_info, right_info};
+    if (!idle_.empty()) {  // the worker idle last: its caches are the warmest
+      Handover& h = *handovers_[idle_.back()];
+      idle_.pop_back();
+      h.pair = std::move(pair);
+      h.turn = next_turn_++;
+      h.wake.notify_one();
+      return;
     }
-    wake_.notify_one();
+    if (has_waiting_) ++dropped_;
+    waiting_ = std::move(pair);
+    has_waiting_ = true;
   }
 
-  void work() {
+  void work(int index) {
+    Handover& handover = *handovers_[index];
     while (true) {
       Pair pair;
       std::uint64_t turn = 0;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return stopping_ || has_waiting_; });
-        if (stopping_) return;
-        pair = std::move(waiting_);
-        waiting_ = Pair{};
-        has_waiting_ = false;
-        turn = next_turn_++;
+        if (has_waiting_) {  // arrived while every worker was busy
+          pair = std::move(waiting_);
+          waiting_ = Pair{};
+          has_waiting_ = false;
+          turn = next_turn_++;
+        } else {
+          idle_.push_back(index);
+          handover.wake.wait(lock, [&] { return stopping_ || handover.pair.has_value(); });
+          if (stopping_) return;
+          pair = std::move(*handover.pair);
+          handover.pair.reset();
+          turn = handover.turn;
+        }
       }
       std::optional<Processed> done;
       try {
@@ -406,10 +421,18 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
 
-  // The latest pair, handed to a free worker; turns keep the output in arrival order (all guarded by
-  // mutex_, with config_, rebuild_, detector_).
+  /// A pair handed to an idle worker, with its turn.
+  struct Handover {
+    std::condition_variable wake;
+    std::optional<Pair> pair;
+    std::uint64_t turn = 0;
+  };
+  // A pair goes to the worker idle last, or waits (only the latest) for the first one to finish; turns keep
+  // the output in arrival order (all guarded by mutex_, with config_, rebuild_, detector_).
   std::mutex mutex_;
-  std::condition_variable wake_, turn_passed_;
+  std::condition_variable turn_passed_;
+  std::vector<std::unique_ptr<Handover>> handovers_;
+  std::vector<int> idle_;  ///< idle workers, the latest last
   Pair waiting_;
   bool has_waiting_ = false;
   bool stopping_ = false;
