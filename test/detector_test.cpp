@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The whole pipeline on rendered scenes with ground truth, plus its configuration and bad input.
 #include <gtest/gtest.h>
+#include <opencv2/core/utility.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <limits>
+#include <thread>
 
 #include "sim_test_helpers.h"
 #include "underwater_stereo/detection/detector.h"
@@ -45,6 +47,39 @@ TEST(Detector, FindsBothBuoysWithRangeAndPositionWithin3Percent) {
     EXPECT_TRUE(gt.roi_left.contains((d->roi.tl() + d->roi.br()) / 2)) << gt.name;
   }
   EXPECT_GT(r.timings.total_ms, 0.0);
+}
+
+// The nodelet's workers share one detector (OpenCV single-threaded, as the nodelet runs them: with its
+// parallel loops block matching's stripes, and so its result, depend on the threads free): concurrent calls
+// must give what a call alone gives.
+TEST(Detector, ConcurrentCallsOnOneDetectorGiveTheSameResults) {
+  const int opencv_threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  const sim::Renderer renderer(twoBuoys());
+  const Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair near = renderer.render(0.0, 0), later = renderer.render(2.0, 4);
+  const DetectionResult expected[2] = {detector.detect(near.left, near.right), detector.detect(later.left, later.right)};
+  ASSERT_EQ(expected[0].objects.size(), 2U);
+  std::vector<DetectionResult> got(8);
+  std::vector<std::thread> threads;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    threads.emplace_back([&, i] {
+      const sim::RenderedPair& pair = i % 2 == 0 ? near : later;
+      got[i] = detector.detect(pair.left, pair.right);
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const DetectionResult& e = expected[i % 2];
+    ASSERT_EQ(got[i].objects.size(), e.objects.size()) << "call " << i;
+    for (std::size_t k = 0; k < e.objects.size(); ++k) {
+      EXPECT_EQ(got[i].objects[k].colour, e.objects[k].colour) << "call " << i;
+      EXPECT_EQ(got[i].objects[k].shape, e.objects[k].shape) << "call " << i;
+      EXPECT_EQ(got[i].objects[k].position_m, e.objects[k].position_m) << "call " << i;
+      EXPECT_EQ(got[i].objects[k].points.size(), e.objects[k].points.size()) << "call " << i;
+    }
+  }
+  cv::setNumThreads(opencv_threads);
 }
 
 TEST(Detector, SpoiledFrameIsReportedNotSearched) {
