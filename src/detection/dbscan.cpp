@@ -2,7 +2,6 @@
 #include "underwater_stereo/detection/dbscan.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
@@ -17,6 +16,14 @@ std::vector<std::string> ClusterConfig::validate() const {
 }
 
 namespace {
+
+/// The cube of side `size` that `p` lies in, as one number ordered as (x, y, z) (21 bits each, offset to
+/// be non-negative): cubes stacked along z are consecutive numbers.
+std::int64_t cubeKey(const Eigen::Vector3f& p, float size) {
+  constexpr std::int64_t kOffset = 1 << 20;
+  const auto axis = [&](float v) { return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(v / size)) + kOffset, 0, 2 * kOffset - 1); };
+  return (axis(p.x()) << 42) | (axis(p.y()) << 21) | axis(p.z());
+}
 
 /// Points merged into cubic cells, in the order of their first point: cell i holds the points
 /// members[first[i]] .. members[first[i + 1] - 1] (ascending), whose mean is centroid[i].
@@ -35,8 +42,7 @@ Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
     if (!p.allFinite()) continue;
-    const auto key = [&](float v) { return static_cast<std::int64_t>(std::floor(v / cell)) & 0x1FFFFF; };
-    keyed.emplace_back(key(p.x()) | (key(p.y()) << 21) | (key(p.z()) << 42), static_cast<int>(i));
+    keyed.emplace_back(cubeKey(p, cell), static_cast<int>(i));
   }
   std::sort(keyed.begin(), keyed.end());
   std::vector<std::pair<int, int>> runs;  // (first point, start in keyed) per cell
@@ -61,47 +67,44 @@ Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
   return cells;
 }
 
-/// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide grid cube they
-/// lie in, so a query reads the 3 x 3 runs of cubes around its own (everything within the radius lies
-/// there). A few times faster than a kd-tree for the few hundred centroids of an object.
+/// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide cube they lie in,
+/// so a query reads the 3 x 3 runs of cubes (each three stacked along z) around its own: everything within
+/// the radius lies there. A few times faster than a kd-tree for the few hundred centroids of an object.
 class RadiusGrid {
  public:
   RadiusGrid(const std::vector<Eigen::Vector3f>& centroids, float radius) : radius_(radius) {
-    entries_.reserve(centroids.size());
-    for (std::size_t i = 0; i < centroids.size(); ++i) entries_.push_back({cubeOf(centroids[i]), centroids[i], int(i)});
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.cube < b.cube; });
+    std::vector<std::pair<std::int64_t, int>> keyed;
+    keyed.reserve(centroids.size());
+    for (std::size_t i = 0; i < centroids.size(); ++i) keyed.emplace_back(cubeKey(centroids[i], radius), static_cast<int>(i));
+    std::sort(keyed.begin(), keyed.end());
+    for (const auto& [key, index] : keyed) {
+      keys_.push_back(key);
+      centroids_.push_back(centroids[index]);
+      indices_.push_back(index);
+    }
   }
 
   /// Indices of the centroids strictly closer than the radius to `p` (p's own included).
   void neighbours(const Eigen::Vector3f& p, std::vector<int>& out) const {
     out.clear();
-    const Cube c = cubeOf(p);
+    const std::int64_t centre = cubeKey(p, radius_);
     const float r2 = radius_ * radius_;
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        const Cube lo{c[0] + dx, c[1] + dy, c[2] - 1}, hi{c[0] + dx, c[1] + dy, c[2] + 1};
-        auto it = std::lower_bound(entries_.begin(), entries_.end(), lo, [](const Entry& e, const Cube& k) { return e.cube < k; });
-        for (; it != entries_.end() && !(hi < it->cube); ++it) {
-          if ((it->centroid - p).squaredNorm() < r2) out.push_back(it->index);
+    for (const std::int64_t dx : {-1, 0, 1}) {
+      for (const std::int64_t dy : {-1, 0, 1}) {
+        const std::int64_t column = centre + (dx << 42) + (dy << 21);
+        const auto first = std::lower_bound(keys_.begin(), keys_.end(), column - 1);
+        for (auto k = static_cast<std::size_t>(first - keys_.begin()); k < keys_.size() && keys_[k] <= column + 1; ++k) {
+          if ((centroids_[k] - p).squaredNorm() < r2) out.push_back(indices_[k]);
         }
       }
     }
   }
 
  private:
-  using Cube = std::array<int, 3>;
-  struct Entry {
-    Cube cube;
-    Eigen::Vector3f centroid;
-    int index;
-  };
-  Cube cubeOf(const Eigen::Vector3f& p) const {
-    return {static_cast<int>(std::floor(p.x() / radius_)), static_cast<int>(std::floor(p.y() / radius_)),
-            static_cast<int>(std::floor(p.z() / radius_))};
-  }
-
   float radius_;
-  std::vector<Entry> entries_;
+  std::vector<std::int64_t> keys_;
+  std::vector<Eigen::Vector3f> centroids_;
+  std::vector<int> indices_;
 };
 
 }  // namespace
