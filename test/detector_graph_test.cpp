@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The detector nodelet in a running graph: fed by the simulated head (Live), by `rosbag play --clock` of a
-// rendered bag (Playback), or by this test's own messages (BadInput, Burst). One executable; each .test file
+// rendered bag (Playback), or by this test's own messages (HandFedDetector). One executable; each .test file
 // picks its case with --gtest_filter.
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -189,7 +189,33 @@ struct Publisher {
   ros::Publisher left, right, left_info, right_info;
 };
 
-}  // namespace
+/// The detector fed with this test's own messages: one rendered pair of the small pool (two buoys) as bgr8
+/// images with their camera_info, published once the detector listens.
+class HandFedDetector : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    spinner.start();
+    ASSERT_TRUE(waitFor([&] { return pub.left.getNumSubscribers() > 0 && pub.right_info.getNumSubscribers() > 0; }, 30));
+    ros::WallDuration(1.0).sleep();
+    sim::Scene scene = sim::loadSceneFile(kSmallPool);
+    scene.sensor.encoding = "bgr8";
+    const sim::Renderer renderer(scene);
+    pair = renderer.render(0, 0);
+    left = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.left).toImageMsg();
+    right = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.right).toImageMsg();
+    left_info = ros_glue::toCameraInfo(renderer.calibration().left);
+    right_info = ros_glue::toCameraInfo(renderer.calibration().right);
+  }
+  void TearDown() override { spinner.stop(); }
+
+  ros::NodeHandle nh;
+  Listener listener{nh};
+  Publisher pub{nh};
+  ros::AsyncSpinner spinner{2};
+  sim::RenderedPair pair;
+  sensor_msgs::Image left, right;
+  sensor_msgs::CameraInfo left_info, right_info;
+};
 
 /// Value of `key` in a diagnostic status; "" if absent.
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key) {
@@ -199,28 +225,14 @@ std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& s, const st
   return "";
 }
 
+}  // namespace
+
 // Pairs sent faster than they are processed, slow ones (two objects) between fast ones (black frames: spoiled,
 // no search), to several workers: every result belongs to its own pair, results come in the order the pairs
 // were sent, and every synchronised pair is either published, dropped or bad input.
-TEST(DetectorGraph, BurstOfPairsIsPublishedInArrivalOrderByParallelWorkers) {
-  ros::NodeHandle nh;
-  Listener listener(nh);
-  Publisher pub(nh);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ASSERT_TRUE(waitFor([&] { return pub.left.getNumSubscribers() > 0 && pub.right_info.getNumSubscribers() > 0; }, 30));
-  ros::WallDuration(1.0).sleep();
-
-  sim::Scene scene = sim::loadSceneFile(kSmallPool);
-  scene.sensor.encoding = "bgr8";
-  const sim::Renderer renderer(scene);
-  const sim::RenderedPair pair = renderer.render(0, 0);
-  const sensor_msgs::Image left = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.left).toImageMsg();
-  const sensor_msgs::Image right = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.right).toImageMsg();
+TEST_F(HandFedDetector, BurstOfPairsIsPublishedInArrivalOrderByParallelWorkers) {
   const cv::Mat black_frame = cv::Mat::zeros(pair.left.size(), CV_8UC3);
   const sensor_msgs::Image black = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", black_frame).toImageMsg();
-  const sensor_msgs::CameraInfo left_info = ros_glue::toCameraInfo(renderer.calibration().left);
-  const sensor_msgs::CameraInfo right_info = ros_glue::toCameraInfo(renderer.calibration().right);
 
   constexpr int kPairs = 24;
   const ros::Time first(2000.0);
@@ -262,26 +274,9 @@ TEST(DetectorGraph, BurstOfPairsIsPublishedInArrivalOrderByParallelWorkers) {
       EXPECT_TRUE(found->objects.empty()) << "pair " << i << " (black)";
     }
   }
-  spinner.stop();
 }
 
-TEST(DetectorGraph, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
-  ros::NodeHandle nh;
-  Listener listener(nh);
-  Publisher pub(nh);
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  ASSERT_TRUE(waitFor([&] { return pub.left.getNumSubscribers() > 0 && pub.right_info.getNumSubscribers() > 0; }, 30));
-  ros::WallDuration(1.0).sleep();
-
-  sim::Scene scene = sim::loadSceneFile(kSmallPool);
-  scene.sensor.encoding = "bgr8";
-  const sim::Renderer renderer(scene);
-  const sim::RenderedPair pair = renderer.render(0, 0);
-  const sensor_msgs::Image left = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.left).toImageMsg();
-  const sensor_msgs::Image right = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", pair.right).toImageMsg();
-  const sensor_msgs::CameraInfo left_info = ros_glue::toCameraInfo(renderer.calibration().left);
-  const sensor_msgs::CameraInfo right_info = ros_glue::toCameraInfo(renderer.calibration().right);
+TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
 
   struct Case {
     std::string name, expected_in_message;
@@ -351,7 +346,6 @@ TEST(DetectorGraph, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
       << "the valid pair after the bad ones was not processed";
   std::lock_guard<std::mutex> lock(listener.mutex);
   EXPECT_EQ(listener.objects[stamp]->objects.size(), 2U);
-  spinner.stop();
 }
 
 int main(int argc, char** argv) {
