@@ -3,6 +3,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <random>
+
 #include "underwater_stereo/detection/colour_segmenter.h"
 
 using namespace underwater_stereo;
@@ -39,6 +41,39 @@ TEST(ColourSegmenter, RedHueWrapsThroughZero) {
   EXPECT_EQ(masks[1].at<std::uint8_t>(50, 250), 255);
   EXPECT_EQ(masks[1].at<std::uint8_t>(50, 50), 0);
   EXPECT_NEAR(cv::countNonZero(masks[1]), M_PI * 30 * 30, 0.05 * M_PI * 30 * 30);
+}
+
+// Each class's mask is exactly OpenCV's inRange of its H, S and V ranges (both halves of a wrapping hue), for
+// more classes than one pass takes (8) and ranges drawn at random.
+TEST(ColourSegmenter, ClassMasksAreInRangeOfEachClass) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> hue(0, 179), level(0, 255);
+  cv::Mat bgr(60, 90, CV_8UC3);
+  cv::randu(bgr, cv::Scalar::all(0), cv::Scalar::all(256));
+  ColourMaskConfig config;
+  config.blur_px = config.open_kernel_px = config.close_kernel_px = 0;
+  config.saturation_floor_factor = 0;
+  for (int i = 0; i < 11; ++i) {
+    const int s0 = level(rng), s1 = level(rng), v0 = level(rng), v1 = level(rng);
+    config.classes.push_back({"class" + std::to_string(i), hue(rng), hue(rng), std::min(s0, s1), std::max(s0, s1),
+                              std::min(v0, v1), std::max(v0, v1)});
+  }
+  ASSERT_TRUE(config.validate().empty());
+  const ColourMasks masks = colourMasks(bgr, config);
+  cv::Mat hsv, any = cv::Mat::zeros(bgr.size(), CV_8UC1);
+  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
+  for (std::size_t i = 0; i < config.classes.size(); ++i) {
+    const ColourClass& c = config.classes[i];
+    const auto range = [&](int h0, int h1) {
+      cv::Mat m;
+      cv::inRange(hsv, cv::Scalar(h0, c.saturation_min, c.value_min), cv::Scalar(h1, c.saturation_max, c.value_max), m);
+      return m;
+    };
+    const cv::Mat expected = c.hue_min <= c.hue_max ? range(c.hue_min, c.hue_max) : (range(c.hue_min, 179) | range(0, c.hue_max));
+    EXPECT_EQ(cv::countNonZero(masks.classes[i] != expected), 0) << c.name;
+    any |= expected;
+  }
+  EXPECT_EQ(cv::countNonZero(masks.any != any), 0);
 }
 
 TEST(ColourSegmenter, OpeningRemovesSpecksAndClosingFillsHolesOfTheUnion) {

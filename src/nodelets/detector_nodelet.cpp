@@ -13,8 +13,8 @@
 #include <message_filters/sync_policies/exact_time.h>
 #include <message_filters/synchronizer.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <opencv2/core/utility.hpp>
+#include <pluginlib/class_list_macros.hpp>
 #include <ros/package.h>
 #include <ros/ros.h>
 #include <tf2/LinearMath/Quaternion.h>
@@ -178,7 +178,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
     if (worker_threads > 1) {
       // Pairs in parallel, each on one core: OpenCV's own loops would only add threads fighting for the
-      // same cores (and ~25 % more CPU per pair spent handing work between them).
+      // same cores (and ~30 % more CPU per pair spent handing work between them).
       cv::setNumThreads(1);
     }
     for (int i = 0; i < worker_threads; ++i) handovers_.push_back(std::make_unique<Handover>());
