@@ -202,12 +202,9 @@ std::string classifyOutline(const std::vector<cv::Point>& contour) {
 
 bool hueNeighbours(const ColourClass& a, const ColourClass& b) {
   // Circular gap between two hue ranges (each possibly wrapping through 0), in OpenCV hue units.
-  auto contains = [](const ColourClass& c, int h) {
-    return c.hue_min <= c.hue_max ? (h >= c.hue_min && h <= c.hue_max) : (h >= c.hue_min || h <= c.hue_max);
-  };
   constexpr int kMaxGap = 2;
   for (int d = 0; d <= kMaxGap; ++d) {
-    if (contains(b, (a.hue_max + d) % 180) || contains(b, (a.hue_min - d + 180) % 180)) return true;
+    if (b.admitsHue((a.hue_max + d) % 180) || b.admitsHue((a.hue_min - d + 180) % 180)) return true;
   }
   return false;
 }

@@ -114,8 +114,7 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int 
         s_min = std::min(s_min, std::max(config.saturation_floor_min, adaptive));
       }
       for (int h = 0; h < 180; ++h) {
-        const bool in = c.hue_min <= c.hue_max ? (h >= c.hue_min && h <= c.hue_max) : (h >= c.hue_min || h <= c.hue_max);
-        if (in) hue_bits[h] |= flag;
+        if (c.admitsHue(h)) hue_bits[h] |= flag;
       }
       for (int v = s_min; v <= c.saturation_max; ++v) saturation_bits[v] |= flag;
       for (int v = c.value_min; v <= c.value_max; ++v) value_bits[v] |= flag;

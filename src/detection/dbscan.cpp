@@ -25,6 +25,17 @@ std::int64_t cubeKey(const Eigen::Vector3f& p, float size) {
   return (axis(p.x()) << 42) | (axis(p.y()) << 21) | axis(p.z());
 }
 
+/// (cube of side `size`, index) of every finite point, sorted: points of a cube together, cubes in key order.
+std::vector<std::pair<std::int64_t, int>> sortedByCube(const std::vector<Eigen::Vector3f>& points, float size) {
+  std::vector<std::pair<std::int64_t, int>> keyed;
+  keyed.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points[i].allFinite()) keyed.emplace_back(cubeKey(points[i], size), static_cast<int>(i));
+  }
+  std::sort(keyed.begin(), keyed.end());
+  return keyed;
+}
+
 /// Points merged into cubic cells, in the order of their first point: cell i holds the points
 /// members[first[i]] .. members[first[i + 1] - 1] (ascending), whose mean is centroid[i].
 struct Cells {
@@ -37,14 +48,7 @@ struct Cells {
 
 /// Sorting (cell, point) pairs instead of a hash map of growing lists: no allocation per cell.
 Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
-  std::vector<std::pair<std::int64_t, int>> keyed;
-  keyed.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3f& p = points[i];
-    if (!p.allFinite()) continue;
-    keyed.emplace_back(cubeKey(p, cell), static_cast<int>(i));
-  }
-  std::sort(keyed.begin(), keyed.end());
+  const std::vector<std::pair<std::int64_t, int>> keyed = sortedByCube(points, cell);
   std::vector<std::pair<int, int>> runs;  // (first point, start in keyed) per cell
   for (std::size_t k = 0; k < keyed.size(); ++k) {
     if (k == 0 || keyed[k].first != keyed[k - 1].first) runs.emplace_back(keyed[k].second, static_cast<int>(k));
@@ -73,11 +77,7 @@ Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
 class RadiusGrid {
  public:
   RadiusGrid(const std::vector<Eigen::Vector3f>& centroids, float radius) : radius_(radius) {
-    std::vector<std::pair<std::int64_t, int>> keyed;
-    keyed.reserve(centroids.size());
-    for (std::size_t i = 0; i < centroids.size(); ++i) keyed.emplace_back(cubeKey(centroids[i], radius), static_cast<int>(i));
-    std::sort(keyed.begin(), keyed.end());
-    for (const auto& [key, index] : keyed) {
+    for (const auto& [key, index] : sortedByCube(centroids, radius)) {
       keys_.push_back(key);
       centroids_.push_back(centroids[index]);
       indices_.push_back(index);
