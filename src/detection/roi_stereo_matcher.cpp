@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/sgbm_3way_matcher.h"
 
 namespace underwater_stereo {
 namespace {
@@ -243,11 +244,14 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   out.mask_pixels = cv::countNonZero(mask_band);
   if (out.mask_pixels == 0) return out;
 
-  const int bs = config_.block_size;
-  auto sgbm = cv::StereoSGBM::create(0, num_disparities, bs, 8 * bs * bs, 32 * bs * bs, 1, 0, config_.uniqueness_ratio,
-                                     0, 0, cv::StereoSGBM::MODE_SGBM_3WAY);
-  cv::Mat disparity16;
-  sgbm->compute(left_band, right_band, disparity16);
+  SgbmParams sgbm;
+  sgbm.num_disparities = num_disparities;
+  sgbm.block_size = config_.block_size;
+  sgbm.p1 = 8 * sgbm.block_size * sgbm.block_size;
+  sgbm.p2 = 32 * sgbm.block_size * sgbm.block_size;
+  sgbm.uniqueness_ratio = config_.uniqueness_ratio;
+  sgbm.disp12_max_diff = 1;
+  const cv::Mat disparity16 = Sgbm3WayMatcher(sgbm).compute(left_band, right_band);
 
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
