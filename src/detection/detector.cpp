@@ -13,22 +13,10 @@
 
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
+#include "underwater_stereo/detection/stopwatch.h"
 
 namespace underwater_stereo {
 namespace {
-
-class Stopwatch {
- public:
-  double lapMs() {
-    const auto now = std::chrono::steady_clock::now();
-    const double ms = std::chrono::duration<double, std::milli>(now - last_).count();
-    last_ = now;
-    return ms;
-  }
-
- private:
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 /// Unit viewing rays (left optical frame, distortion removed) of a raw-image contour.
 std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, const CameraCalibration& c) {
@@ -195,7 +183,10 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
   const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin);
-  t.stereo_ms += stage.lapMs();
+  stage.lapMs();
+  t.rectify_ms += roi_points.rectify_ms;
+  t.matching_ms += roi_points.matching_ms;
+  t.reprojection_ms += roi_points.reprojection_ms;
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
   t.cluster_ms += stage.lapMs();
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) return std::nullopt;
@@ -276,7 +267,9 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   }
   for (int k = 0; k < n; ++k) {
     result.timings.colour_ms += times[k].colour_ms;
-    result.timings.stereo_ms += times[k].stereo_ms;
+    result.timings.rectify_ms += times[k].rectify_ms;
+    result.timings.matching_ms += times[k].matching_ms;
+    result.timings.reprojection_ms += times[k].reprojection_ms;
     result.timings.cluster_ms += times[k].cluster_ms;
     result.timings.fit_ms += times[k].fit_ms;
     if (found[k]) result.objects.push_back(std::move(*found[k]));

@@ -11,6 +11,7 @@
 
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/sgbm_3way_matcher.h"
+#include "underwater_stereo/detection/stopwatch.h"
 
 namespace underwater_stereo {
 namespace {
@@ -202,6 +203,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   const auto [d_lo, d_hi] = workspaceDisparities();  // d_min and d_max in whole pixels, outwards
   int min_disparity = d_lo;
   int num_disparities = ((d_hi - d_lo + 15) / 16) * 16;
+  Stopwatch lap;
   const cv::Rect box = rectifiedBox(roi);
   RoiPoints out;
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
@@ -231,7 +233,10 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   // Near the left edge the band is clipped: only disparities that fit in it can be searched (SGBM needs
   // width > numDisparities, or it fails to allocate).
   num_disparities = std::min(num_disparities, ((band.width - config_.block_size - 1) / 16) * 16);
-  if (num_disparities < 16 || band.height < config_.block_size) return out;
+  if (num_disparities < 16 || band.height < config_.block_size) {
+    out.rectify_ms = lap.lapMs();
+    return out;
+  }
 
   cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band);
   cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, right_rect);
@@ -242,6 +247,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
   }
   out.mask_pixels = cv::countNonZero(mask_band);
+  out.rectify_ms = lap.lapMs();
   if (out.mask_pixels == 0) return out;
 
   SgbmParams sgbm;
@@ -252,6 +258,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   sgbm.uniqueness_ratio = config_.uniqueness_ratio;
   sgbm.disp12_max_diff = 1;
   const cv::Mat disparity16 = Sgbm3WayMatcher(sgbm).compute(left_band, right_band);
+  out.matching_ms = lap.lapMs();
 
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
@@ -271,6 +278,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
       out.points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
     }
   }
+  out.reprojection_ms = lap.lapMs();
   return out;
 }
 

@@ -33,10 +33,12 @@ struct Detection {
   double fit_rmse_m = 0.0;
 };
 
-/// Time per stage of the last call [ms]; stereo, cluster and fit (and the right frame's colour mask, part of
-/// colour) are summed over objects (measured in parallel), so they can add up to more than total_ms.
+/// Time per stage of the last call [ms]; the per-object stages (rectify: silhouette disparity and band
+/// rectification; matching: block matching; reprojection; cluster; fit; and the right frame's colour mask, part
+/// of colour) are summed over objects (measured in parallel), so they can add up to more than total_ms.
 struct StageTimings {
-  double quality_ms = 0, colour_ms = 0, contours_ms = 0, stereo_ms = 0, cluster_ms = 0, fit_ms = 0, total_ms = 0;
+  double quality_ms = 0, colour_ms = 0, contours_ms = 0, rectify_ms = 0, matching_ms = 0, reprojection_ms = 0,
+         cluster_ms = 0, fit_ms = 0, total_ms = 0;
 };
 
 struct DetectionResult {
