@@ -49,14 +49,12 @@ inline Cost saturate(int v) { return static_cast<Cost>(std::clamp(v, SHRT_MIN, S
 }
 [[gnu::target("avx2")]] inline Cost lane0(__m256i v) { return static_cast<Cost>(_mm256_extract_epi16(v, 0)); }
 
-/// The largest block count kept in registers by its own instantiation; wider searches use the general one.
-constexpr int kMaxRegisterBlocks = 4;
-constexpr int kMaxBlocks = 1024 / kLanes;
+constexpr int kMaxBlocks = 1024 / kLanes;  ///< the widest search, in blocks of 16 disparities
 
 /// One step of a path over all disparities, `nb` blocks: out[d] = cost[d] + min(prev[d-1] + P1, prev[d+1] + P1,
 /// prev[d], prev_min + P2) - (prev_min + P2) with prev[-1] = prev[D] = SHRT_MAX, in OpenCV's order of saturating
 /// 16-bit operations. `min_p2` holds prev_min + P2 in every lane. Returns the lane-wise least of out.
-[[gnu::target("avx2")]] inline __m256i pathStep(const __m256i* prev, __m256i* out, const Cost* cost, __m256i min_p2,
+[[gnu::target("avx2")]] inline __m256i pathStep(const __m256i* prev, __m256i* out, const __m256i* cost, __m256i min_p2,
                                                 __m256i p1, int nb) {
   const __m256i border = _mm256_set1_epi16(SHRT_MAX);
   __m256i least = border;
@@ -64,7 +62,7 @@ constexpr int kMaxBlocks = 1024 / kLanes;
     const __m256i before = b > 0 ? prev[b - 1] : border, after = b + 1 < nb ? prev[b + 1] : border;
     const __m256i neighbours = _mm256_min_epi16(previousLane(prev[b], before), nextLane(prev[b], after));
     out[b] = _mm256_adds_epi16(
-        load(cost + b * kLanes),
+        cost[b],
         _mm256_subs_epi16(_mm256_min_epi16(_mm256_adds_epi16(neighbours, p1), _mm256_min_epi16(prev[b], min_p2)), min_p2));
     least = _mm256_min_epi16(least, out[b]);
   }
@@ -96,6 +94,7 @@ struct PrefilteredRow {
   return _mm256_sub_epi8(_mm256_avg_epu8(a, b), _mm256_and_si256(_mm256_xor_si256(a, b), _mm256_set1_epi8(1)));
 }
 
+/// Row y of `image` (CV_8UC1, as wide as `out`).
 [[gnu::target("avx2")]] void prefilter(const cv::Mat& image, int y, PrefilteredRow& out) {
   const int w = image.cols;
   const std::uint8_t* r = image.ptr<std::uint8_t>(y);
@@ -157,7 +156,7 @@ class StripeMatcher {
     const std::size_t line = static_cast<std::size_t>(w1_) * d_;
     cost_.assign(line, saturate(p_.p2));  // OpenCV adds P2 to every cost once: it cancels in the paths
     hsum_.assign(line * hsum_rows_, 0);
-    pixel_cost_.assign(line, 0);
+    pixel_costs_.assign(static_cast<std::size_t>(2 * half_ + 2) * d_, 0);
     horizontal_.assign(line + d_, 0);
     vertical_.assign(line + d_, 0);
     vertical_min_.assign(w1_ + 1, 0);
@@ -167,138 +166,152 @@ class StripeMatcher {
     left_row_.resize(w_);
     right_row_.resize(w_);
     for (int y = start; y < end; ++y) {
-      rawMatchingCost(y, start);
-      matchRow();
+      switch (blocks_) {  // up to 64 disparities in registers (their own instantiations), wider ones in memory
+        case 1: matchRow<1>(y, start); break;
+        case 2: matchRow<2>(y, start); break;
+        case 3: matchRow<3>(y, start); break;
+        case 4: matchRow<4>(y, start); break;
+        default: matchRow<0>(y, start);
+      }
       if (y + shift >= out_begin && y + shift < out_end) std::copy(row_.begin(), row_.end(), out.ptr<short>(y + shift));
     }
   }
 
  private:
-  /// pixel_cost_ of image row y: for left columns d_..w-1 and disparities 0..d_-1, the Birchfield-Tomasi cost on
-  /// the Sobel channel plus a quarter of it on the raw one.
-  [[gnu::target("avx2")]] void pixelCosts(int y) {
-    prefilter(left_, y, left_row_);
-    prefilter(right_, y, right_row_);
-    // Right columns x - d for 16 disparities from d0 are 16 bytes from x - d0 - 15, in descending d.
+  /// Pixel costs of left column d_ + x of the prefiltered rows for disparities 0..d_-1: the Birchfield-Tomasi
+  /// cost on the Sobel channel plus a quarter of it on the raw one.
+  [[gnu::target("avx2")]] void pixelCost(int x, Cost* out) const {
+    const int column = x + d_;
+    __m128i u[2], u0[2], u1[2];
+    for (int c = 0; c < 2; ++c) {
+      u[c] = _mm_set1_epi8(static_cast<char>(left_row_.value[c][column]));
+      u0[c] = _mm_set1_epi8(static_cast<char>(left_row_.lo[c][column]));
+      u1[c] = _mm_set1_epi8(static_cast<char>(left_row_.hi[c][column]));
+    }
+    // Right columns column - d for 16 disparities from d0 are 16 bytes from column - d0 - 15, in descending d.
     const __m128i reverse = _mm_setr_epi8(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
     auto bytes = [](const std::vector<std::uint8_t>& v, int i) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(v.data() + i)); };
-    for (int x = d_; x < w_; ++x) {
-      __m128i u[2], u0[2], u1[2];
+    for (int b = 0; b < blocks_; ++b) {
+      const int i = column - b * kLanes - (kLanes - 1);
+      __m128i diff[2];
       for (int c = 0; c < 2; ++c) {
-        u[c] = _mm_set1_epi8(static_cast<char>(left_row_.value[c][x]));
-        u0[c] = _mm_set1_epi8(static_cast<char>(left_row_.lo[c][x]));
-        u1[c] = _mm_set1_epi8(static_cast<char>(left_row_.hi[c][x]));
+        const __m128i v = bytes(right_row_.value[c], i), v0 = bytes(right_row_.lo[c], i), v1 = bytes(right_row_.hi[c], i);
+        const __m128i c0 = _mm_max_epu8(_mm_subs_epu8(u[c], v1), _mm_subs_epu8(v0, u[c]));
+        const __m128i c1 = _mm_max_epu8(_mm_subs_epu8(v, u1[c]), _mm_subs_epu8(u0[c], v));
+        diff[c] = _mm_min_epu8(c0, c1);
       }
-      Cost* out = pixel_cost_.data() + static_cast<std::size_t>(x - d_) * d_;
-      for (int b = 0; b < blocks_; ++b) {
-        const int i = x - b * kLanes - (kLanes - 1);
-        __m128i diff[2];
-        for (int c = 0; c < 2; ++c) {
-          const __m128i v = bytes(right_row_.value[c], i), v0 = bytes(right_row_.lo[c], i), v1 = bytes(right_row_.hi[c], i);
-          const __m128i c0 = _mm_max_epu8(_mm_subs_epu8(u[c], v1), _mm_subs_epu8(v0, u[c]));
-          const __m128i c1 = _mm_max_epu8(_mm_subs_epu8(v, u1[c]), _mm_subs_epu8(u0[c], v));
-          diff[c] = _mm_min_epu8(c0, c1);
-        }
-        // Sobel cost (<= 30) + raw cost / 4 (<= 63) fits in a byte.
-        const __m128i sum = _mm_add_epi8(diff[0], _mm_and_si128(_mm_srli_epi16(diff[1], 2), _mm_set1_epi8(0x3F)));
-        store(out + b * kLanes, _mm256_cvtepu8_epi16(_mm_shuffle_epi8(sum, reverse)));
-      }
+      // Sobel cost (<= 30) + raw cost / 4 (<= 63) fits in a byte.
+      const __m128i sum = _mm_add_epi8(diff[0], _mm_and_si128(_mm_srli_epi16(diff[1], 2), _mm_set1_epi8(0x3F)));
+      store(out + b * kLanes, _mm256_cvtepu8_epi16(_mm_shuffle_epi8(sum, reverse)));
     }
   }
 
-  const Cost* pixel(int x) const { return pixel_cost_.data() + static_cast<std::size_t>(x) * d_; }
+  /// Pixel costs of column x, kept while the block sums need them (columns x - half_ - 1 .. x + half_).
+  Cost* pixelCosts(int x) { return pixel_costs_.data() + static_cast<std::size_t>(x % (2 * half_ + 2)) * d_; }
   Cost* hsumRow(int k) { return hsum_.data() + static_cast<std::size_t>(k % hsum_rows_) * w1_ * d_; }
+  Cost* slot(std::vector<Cost>& v, int i) { return v.data() + static_cast<std::size_t>(i) * d_; }
 
-  /// cost_ += the block sums entering row y (and leaving it), clamping rows to [start, h).
-  [[gnu::target("avx2")]] void rawMatchingCost(int y, int start) {
-    const int k0 = y == start ? start : y + half_, k1 = y == start ? start + half_ : k0;
-    const std::size_t line = static_cast<std::size_t>(w1_) * d_;
-    for (int k = k0; k <= k1; ++k) {
-      Cost* add = hsumRow(std::min(k, h_ - 1));
-      const Cost* sub = y > start ? hsumRow(std::max(y - half_ - 1, start)) : nullptr;
-      const __m256i scale = _mm256_set1_epi16(static_cast<short>(k == start ? half_ + 1 : 1));
-      if (k >= h_) {
-        for (std::size_t i = 0; i < line; i += kLanes) {
-          const __m256i sum = _mm256_adds_epi16(load(cost_.data() + i), load(add + i));
-          store(cost_.data() + i, sub ? _mm256_subs_epi16(sum, load(sub + i)) : sum);
-        }
-        continue;
-      }
-      pixelCosts(k);
-      const __m256i edge = _mm256_set1_epi16(static_cast<short>(half_ + 1));
-      for (int b = 0; b < blocks_; ++b) {
-        __m256i hs = _mm256_mullo_epi16(load(pixel(0) + b * kLanes), edge);
-        for (int x = 1; x <= half_; ++x) hs = _mm256_adds_epi16(hs, load(pixel(x) + b * kLanes));
-        store(add + b * kLanes, hs);
-      }
-      for (int x = 0; x < w1_; ++x) {
-        const Cost* padd = pixel(std::min(x + half_, w1_ - 1));
-        const Cost* psub = pixel(std::max(x - half_ - 1, 0));
-        Cost* h = add + static_cast<std::size_t>(x) * d_;
-        Cost* c = cost_.data() + static_cast<std::size_t>(x) * d_;
-        for (int b = 0; b < blocks_; ++b) {
-          const int o = b * kLanes;
-          __m256i hv = load(h + o);
-          if (x > 0) {
-            hv = _mm256_subs_epi16(_mm256_adds_epi16(load(h - d_ + o), load(padd + o)), load(psub + o));
-            store(h + o, hv);
-          }
-          store(c + o, sub ? _mm256_subs_epi16(_mm256_adds_epi16(load(c + o), hv), load(sub + static_cast<std::size_t>(x) * d_ + o))
-                           : _mm256_adds_epi16(load(c + o), _mm256_mullo_epi16(hv, scale)));
-        }
-      }
-    }
-  }
-
-  /// The three paths, the disparity of least summed cost per pixel with uniqueness and sub-pixel refinement, and
-  /// the one-map left-right check, for the row whose costs are in cost_; result in row_.
-  [[gnu::target("avx2")]] void matchRow() {
-    switch (blocks_) {
-      case 1: return matchRow<1>();
-      case 2: return matchRow<2>();
-      case 3: return matchRow<3>();
-      case 4: return matchRow<4>();
-      default: return matchRow<0>();
-    }
-  }
-
-  /// B blocks of disparities (0: blocks_, more than the registers hold).
+  /// One output row with B blocks of disparities (0: blocks_, more than registers hold): OpenCV's
+  /// getRawMatchingCost (image rows k0..k1 enter the block sums of row y, the last completes its costs), the three
+  /// paths, the disparity of least summed cost per pixel with uniqueness and sub-pixel refinement, and the
+  /// one-map left-right check; result in row_.
   template <int B>
-  [[gnu::target("avx2")]] void matchRow() {
+  [[gnu::target("avx2")]] void matchRow(int y, int start) {
+    const int k0 = y == start ? start : y + half_, k1 = y == start ? start + half_ : k0;
+    for (int k = k0; k < k1; ++k) addBlockSums<B, false>(k, y, start);
+    addBlockSums<B, true>(k1, y, start);
+    rightToLeft<B>();
+    leftRightCheck();
+  }
+
+  /// Adds image row k's block sums to cost_ (rows clamped to [start, h)). With kPaths, runs the left-to-right and
+  /// top-down paths through each pixel as soon as its cost is complete (into horizontal_ and vertical_).
+  template <int B, bool kPaths>
+  [[gnu::target("avx2")]] void addBlockSums(int k, int y, int start) {
     constexpr int kSlots = B > 0 ? B : kMaxBlocks;
     const int nb = B > 0 ? B : blocks_;
-    std::fill(row_.begin(), row_.end(), static_cast<short>(kInvalid));
-    std::fill(disp2_.begin(), disp2_.end(), static_cast<short>(kInvalid));
-    std::fill(disp2_cost_.begin(), disp2_cost_.end(), static_cast<Cost>(SHRT_MAX));
-    auto slot = [this](std::vector<Cost>& v, int i) { return v.data() + static_cast<std::size_t>(i) * d_; };
+    Cost* add = hsumRow(std::min(k, h_ - 1));
+    const Cost* sub = y > start ? hsumRow(std::max(y - half_ - 1, start)) : nullptr;
+    const __m256i scale = _mm256_set1_epi16(static_cast<short>(k == start ? half_ + 1 : 1));
+    const __m256i edge = _mm256_set1_epi16(static_cast<short>(half_ + 1));
+    const bool fresh = k < h_;  // beyond the last row, the last row's sums again
+    if (fresh) {
+      prefilter(left_, k, left_row_);
+      prefilter(right_, k, right_row_);
+      for (int x = 0; x <= half_; ++x) pixelCost(x, pixelCosts(x));
+    }
     const __m256i p1 = _mm256_set1_epi16(saturate(p_.p1)), p2 = _mm256_set1_epi16(saturate(p_.p2));
-    // Left-to-right (starting from 0 costs) and top-down, both into memory for the right-to-left pass.
-    __m256i path[kSlots], next[kSlots], top[kSlots];
-    for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();
+    __m256i hv[kSlots], cost[kSlots], path[kSlots], next[kSlots], top[kSlots];
+    for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();  // the left path starts from 0 costs
     __m256i min_p2 = p2;
-    for (int i = 1; i <= w1_; ++i) {
-      const Cost* c = cost_.data() + static_cast<std::size_t>(i - 1) * d_;
-      min_p2 = _mm256_adds_epi16(broadcastMin(pathStep(path, next, c, min_p2, p1, nb)), p2);
-      Cost* left = slot(horizontal_, i);
-      Cost* vertical = slot(vertical_, i);
+    for (int x = 0; x < w1_; ++x) {
+      Cost* c = slot(cost_, x);
+      Cost* h = add + static_cast<std::size_t>(x) * d_;
+      const Cost* s = sub ? sub + static_cast<std::size_t>(x) * d_ : nullptr;
+      if (fresh) {
+        if (x == 0) {
+          for (int b = 0; b < nb; ++b) {
+            hv[b] = _mm256_mullo_epi16(load(pixelCosts(0) + b * kLanes), edge);
+            for (int j = 1; j <= half_; ++j) hv[b] = _mm256_adds_epi16(hv[b], load(pixelCosts(j) + b * kLanes));
+          }
+        } else {
+          if (x + half_ < w1_) pixelCost(x + half_, pixelCosts(x + half_));
+          const Cost* padd = pixelCosts(std::min(x + half_, w1_ - 1));
+          const Cost* psub = pixelCosts(std::max(x - half_ - 1, 0));
+          for (int b = 0; b < nb; ++b) {
+            hv[b] = _mm256_subs_epi16(_mm256_adds_epi16(hv[b], load(padd + b * kLanes)), load(psub + b * kLanes));
+          }
+        }
+        for (int b = 0; b < nb; ++b) {
+          const int o = b * kLanes;
+          store(h + o, hv[b]);
+          cost[b] = s ? _mm256_subs_epi16(_mm256_adds_epi16(load(c + o), hv[b]), load(s + o))
+                      : _mm256_adds_epi16(load(c + o), _mm256_mullo_epi16(hv[b], scale));
+          store(c + o, cost[b]);
+        }
+      } else {
+        for (int b = 0; b < nb; ++b) {
+          const int o = b * kLanes;
+          const __m256i sum = _mm256_adds_epi16(load(c + o), load(h + o));
+          cost[b] = s ? _mm256_subs_epi16(sum, load(s + o)) : sum;
+          store(c + o, cost[b]);
+        }
+      }
+      if (!kPaths) continue;
+      // Path slots 1..w1 (slot 0 of the left path stays 0).
+      min_p2 = _mm256_adds_epi16(broadcastMin(pathStep(path, next, cost, min_p2, p1, nb)), p2);
+      Cost* left = slot(horizontal_, x + 1);
+      Cost* vertical = slot(vertical_, x + 1);
       for (int b = 0; b < nb; ++b) {
         store(left + b * kLanes, next[b]);
         path[b] = next[b];
         top[b] = load(vertical + b * kLanes);
       }
-      const __m256i top_min_p2 = _mm256_adds_epi16(_mm256_set1_epi16(vertical_min_[i]), p2);
-      vertical_min_[i] = lane0(broadcastMin(pathStep(top, next, c, top_min_p2, p1, nb)));
+      const __m256i top_min_p2 = _mm256_adds_epi16(_mm256_set1_epi16(vertical_min_[x + 1]), p2);
+      vertical_min_[x + 1] = lane0(broadcastMin(pathStep(top, next, cost, top_min_p2, p1, nb)));
       for (int b = 0; b < nb; ++b) store(vertical + b * kLanes, next[b]);
     }
-    // Right-to-left, summed with the other two into the left path's slots.
+  }
+
+  /// The right-to-left path, summed with the other two into the left path's slots, and each pixel's disparity.
+  template <int B>
+  [[gnu::target("avx2")]] void rightToLeft() {
+    constexpr int kSlots = B > 0 ? B : kMaxBlocks;
+    const int nb = B > 0 ? B : blocks_;
+    std::fill(row_.begin(), row_.end(), static_cast<short>(kInvalid));
+    std::fill(disp2_.begin(), disp2_.end(), static_cast<short>(kInvalid));
+    std::fill(disp2_cost_.begin(), disp2_cost_.end(), static_cast<Cost>(SHRT_MAX));
+    const __m256i p1 = _mm256_set1_epi16(saturate(p_.p1)), p2 = _mm256_set1_epi16(saturate(p_.p2));
     const __m256i lane_index = _mm256_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    __m256i cost[kSlots], path[kSlots], next[kSlots];
     for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();
-    min_p2 = p2;
+    __m256i min_p2 = p2;
     for (int i = w1_; i >= 1; --i) {
-      const Cost* c = cost_.data() + static_cast<std::size_t>(i - 1) * d_;
+      const Cost* c = slot(cost_, i - 1);
       Cost* sum = slot(horizontal_, i);
       const Cost* vertical = slot(vertical_, i);
-      min_p2 = _mm256_adds_epi16(broadcastMin(pathStep(path, next, c, min_p2, p1, nb)), p2);
+      for (int b = 0; b < nb; ++b) cost[b] = load(c + b * kLanes);
+      min_p2 = _mm256_adds_epi16(broadcastMin(pathStep(path, next, cost, min_p2, p1, nb)), p2);
       __m256i least = _mm256_set1_epi16(SHRT_MAX), least_at = _mm256_setzero_si256();
       for (int b = 0; b < nb; ++b) {
         path[b] = next[b];
@@ -324,7 +337,6 @@ class StripeMatcher {
       }
       row_[column] = static_cast<short>(unique_match ? d : kInvalid);
     }
-    leftRightCheck();
   }
 
   /// The disparity OpenCV's 8-lane search reports: per lane the last block reaching the lane's least cost, then
@@ -373,7 +385,7 @@ class StripeMatcher {
   const SgbmParams& p_;
   const int w_, h_, d_, blocks_, w1_, half_, hsum_rows_;
   const std::uint64_t uniqueness_reciprocal_;  ///< 2^32 / (100 - uniqueness_ratio), rounded up
-  std::vector<Cost> cost_, hsum_, pixel_cost_, horizontal_, vertical_, vertical_min_, disp2_cost_;
+  std::vector<Cost> cost_, hsum_, pixel_costs_, horizontal_, vertical_, vertical_min_, disp2_cost_;
   std::vector<short> disp2_, row_;
   PrefilteredRow left_row_, right_row_;
 };

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file Semi-global block matching over three paths (left-to-right, right-to-left, top-down), giving the same
-/// disparities as OpenCV 4's cv::StereoSGBM in MODE_SGBM_3WAY, bit for bit, in about a third of its time.
+/// disparities as OpenCV 4's cv::StereoSGBM in MODE_SGBM_3WAY, bit for bit, in less than half its time.
 ///
 /// Debian's OpenCV is built for SSE2 only, and its 3WAY matcher runs 8 disparities per instruction. This one runs
 /// the same arithmetic (Birchfield-Tomasi pixel costs on the clipped horizontal Sobel and on the raw grey, block
