@@ -75,11 +75,12 @@ constexpr int kMaxBlocks = 1024 / kLanes;  ///< the widest search, in blocks of 
 struct PrefilteredRow {
   std::vector<std::uint8_t> value[2], lo[2], hi[2];
 
+  /// `w` columns and 32 bytes of padding (read by 32-byte loads whose upper lanes go unused).
   void resize(int w) {
     for (int c = 0; c < 2; ++c) {
-      value[c].resize(w);
-      lo[c].resize(w);
-      hi[c].resize(w);
+      value[c].resize(w + 32);
+      lo[c].resize(w + 32);
+      hi[c].resize(w + 32);
     }
   }
 };
@@ -182,28 +183,41 @@ class StripeMatcher {
   /// cost on the Sobel channel plus a quarter of it on the raw one.
   [[gnu::target("avx2")]] void pixelCost(int x, Cost* out) const {
     const int column = x + d_;
-    __m128i u[2], u0[2], u1[2];
+    __m256i u[2], u0[2], u1[2];
     for (int c = 0; c < 2; ++c) {
-      u[c] = _mm_set1_epi8(static_cast<char>(left_row_.value[c][column]));
-      u0[c] = _mm_set1_epi8(static_cast<char>(left_row_.lo[c][column]));
-      u1[c] = _mm_set1_epi8(static_cast<char>(left_row_.hi[c][column]));
+      u[c] = _mm256_set1_epi8(static_cast<char>(left_row_.value[c][column]));
+      u0[c] = _mm256_set1_epi8(static_cast<char>(left_row_.lo[c][column]));
+      u1[c] = _mm256_set1_epi8(static_cast<char>(left_row_.hi[c][column]));
     }
-    // Right columns column - d for 16 disparities from d0 are 16 bytes from column - d0 - 15, in descending d.
-    const __m128i reverse = _mm_setr_epi8(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0);
-    auto bytes = [](const std::vector<std::uint8_t>& v, int i) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(v.data() + i)); };
-    for (int b = 0; b < blocks_; ++b) {
-      const int i = column - b * kLanes - (kLanes - 1);
-      __m128i diff[2];
-      for (int c = 0; c < 2; ++c) {
-        const __m128i v = bytes(right_row_.value[c], i), v0 = bytes(right_row_.lo[c], i), v1 = bytes(right_row_.hi[c], i);
-        const __m128i c0 = _mm_max_epu8(_mm_subs_epu8(u[c], v1), _mm_subs_epu8(v0, u[c]));
-        const __m128i c1 = _mm_max_epu8(_mm_subs_epu8(v, u1[c]), _mm_subs_epu8(u0[c], v));
-        diff[c] = _mm_min_epu8(c0, c1);
-      }
-      // Sobel cost (<= 30) + raw cost / 4 (<= 63) fits in a byte.
-      const __m128i sum = _mm_add_epi8(diff[0], _mm_and_si128(_mm_srli_epi16(diff[1], 2), _mm_set1_epi8(0x3F)));
-      store(out + b * kLanes, _mm256_cvtepu8_epi16(_mm_shuffle_epi8(sum, reverse)));
+    int d0 = 0;
+    for (; d0 + 2 * kLanes <= d_; d0 += 2 * kLanes) {
+      const __m256i c = costBytes(column - d0 - 2 * kLanes + 1, u, u0, u1);
+      store(out + d0, _mm256_cvtepu8_epi16(_mm256_castsi256_si128(c)));
+      store(out + d0 + kLanes, _mm256_cvtepu8_epi16(_mm256_extracti128_si256(c, 1)));
     }
+    if (d0 < d_) {  // an odd block: the upper half of the 32 disparities from d0 - 16 (reads the rows' padding)
+      const __m256i c = costBytes(column - d0 - kLanes + 1, u, u0, u1);
+      store(out + d0, _mm256_cvtepu8_epi16(_mm256_extracti128_si256(c, 1)));
+    }
+  }
+
+  /// The costs (as bytes: Sobel's <= 30 plus a quarter of the raw one's <= 63 fits) of the left pixel whose
+  /// channels are broadcast in u, u0 (lo), u1 (hi) against the 32 right columns from i, ascending disparity (the
+  /// right columns descending).
+  [[gnu::target("avx2")]] __m256i costBytes(int i, const __m256i* u, const __m256i* u0, const __m256i* u1) const {
+    __m256i diff[2];
+    for (int c = 0; c < 2; ++c) {
+      const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(right_row_.value[c].data() + i));
+      const __m256i v0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(right_row_.lo[c].data() + i));
+      const __m256i v1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(right_row_.hi[c].data() + i));
+      const __m256i c0 = _mm256_max_epu8(_mm256_subs_epu8(u[c], v1), _mm256_subs_epu8(v0, u[c]));
+      const __m256i c1 = _mm256_max_epu8(_mm256_subs_epu8(v, u1[c]), _mm256_subs_epu8(u0[c], v));
+      diff[c] = _mm256_min_epu8(c0, c1);
+    }
+    const __m256i sum = _mm256_add_epi8(diff[0], _mm256_and_si256(_mm256_srli_epi16(diff[1], 2), _mm256_set1_epi8(0x3F)));
+    const __m256i reverse = _mm256_setr_epi8(15, 14, 13, 12, 11, 10, 9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 15, 14, 13, 12, 11, 10, 9,
+                                             8, 7, 6, 5, 4, 3, 2, 1, 0);
+    return _mm256_permute4x64_epi64(_mm256_shuffle_epi8(sum, reverse), 0x4E);
   }
 
   /// Pixel costs of column x, kept while the block sums need them (columns x - half_ - 1 .. x + half_).
