@@ -2,7 +2,8 @@
 // Runs the Detector on synchronised stereo pairs: objects, annotated image and snapshot, markers, the
 // objects' cloud, a TF frame per object, diagnostics. `worker_threads` workers each take the latest pair;
 // pairs that arrive while all are busy replace the waiting one and are counted as dropped. Results are
-// published in the order the pairs arrived.
+// published in the order the pairs arrived (a worker that finishes early leaves its result and takes the next
+// pair).
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
@@ -26,6 +27,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -106,7 +108,6 @@ class DetectorNodelet : public nodelet::Nodelet {
       stopping_ = true;
     }
     for (auto& h : handovers_) h->wake.notify_all();
-    turn_passed_.notify_all();
     for (std::thread& w : workers_) w.join();
   }
 
@@ -282,24 +283,28 @@ class DetectorNodelet : public nodelet::Nodelet {
       } catch (const std::exception& e) {  // cv::Exception included: a pair must never take the manager down
         badInput(std::string("processing failed: ") + e.what());
       }
-      // Published in arrival order: a pair finished early waits for the ones taken before it.
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        turn_passed_.wait(lock, [&] { return stopping_ || publishing_turn_ == turn; });
-        if (stopping_) return;
-      }
-      if (done) {
-        try {
-          publish(*done);
-        } catch (const std::exception& e) {
-          badInput(std::string("publishing failed: ") + e.what());
-        }
-      }
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
+      // Published in arrival order without holding the worker up: a result waits in finished_ for its turn, and
+      // whichever worker completes the next turn publishes every result then in order.
+      std::unique_lock<std::mutex> lock(mutex_);
+      finished_.emplace(turn, std::move(done));
+      if (stopping_) return;
+      if (publishing_) continue;
+      publishing_ = true;
+      for (auto next = finished_.find(publishing_turn_); next != finished_.end(); next = finished_.find(publishing_turn_)) {
+        std::optional<Processed> result = std::move(next->second);
+        finished_.erase(next);
         ++publishing_turn_;
+        lock.unlock();
+        if (result) {
+          try {
+            publish(*result);
+          } catch (const std::exception& e) {
+            badInput(std::string("publishing failed: ") + e.what());
+          }
+        }
+        lock.lock();
       }
-      turn_passed_.notify_all();
+      publishing_ = false;
     }
   }
 
@@ -430,7 +435,6 @@ class DetectorNodelet : public nodelet::Nodelet {
   // A pair goes to the worker idle last, or waits (only the latest) for the first one to finish; turns keep
   // the output in arrival order (all guarded by mutex_, with config_, rebuild_, detector_).
   std::mutex mutex_;
-  std::condition_variable turn_passed_;
   std::vector<std::unique_ptr<Handover>> handovers_;
   std::vector<int> idle_;  ///< idle workers, the latest last
   Pair waiting_;
@@ -438,6 +442,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   bool stopping_ = false;
   bool rebuild_ = false;
   std::uint64_t next_turn_ = 0, publishing_turn_ = 0;
+  std::map<std::uint64_t, std::optional<Processed>> finished_;  ///< results (none: refused) waiting for their turn
+  bool publishing_ = false;                                      ///< a worker is publishing finished_ in order
   std::shared_ptr<const Detector> detector_;
   StereoCalibration calibration_;
   std::vector<std::thread> workers_;
