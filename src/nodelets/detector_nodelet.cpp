@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Runs the Detector on synchronised stereo pairs: objects, annotated image and snapshot, markers, the
-// objects' cloud, a TF frame per object, diagnostics. `worker_threads` workers each take the latest pair;
-// pairs that arrive while all are busy replace the waiting one and are counted as dropped. Results are
+// objects' cloud, a TF frame per object, diagnostics. `worker_threads` workers each take a pair; up to
+// `max_waiting_pairs` wait while all are busy (beyond that the oldest is dropped and counted). Results are
 // published in the order the pairs arrived (a worker that finishes early leaves its result and takes the next
 // pair).
 #include <cv_bridge/cv_bridge.h>
@@ -27,6 +27,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -121,6 +122,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     bool approximate = false;
     int queue_size = 5;
     int worker_threads = 2;
+    int max_waiting_pairs = 2;
     std::string mount_frame;
     std::vector<double> mount_xyz{0, 0, 0}, mount_rpy{0, 0, 0};
     params.optional("config_file", config_file);
@@ -128,6 +130,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     params.optional("max_skew_s", max_skew_s_);
     params.optional("queue_size", queue_size);
     params.optional("worker_threads", worker_threads);
+    params.optional("max_waiting_pairs", max_waiting_pairs);
     params.optional("object_frame_prefix", frame_prefix_);
     params.optional("publish_tf", publish_tf_);
     params.optional("mount_frame", mount_frame);
@@ -137,6 +140,9 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (queue_size < 1 || queue_size > 100) problems.push_back(pnh.resolveName("queue_size") + ": must be 1..100");
     if (worker_threads < 1 || worker_threads > 16) {
       problems.push_back(pnh.resolveName("worker_threads") + ": must be 1..16");
+    }
+    if (max_waiting_pairs < 1 || max_waiting_pairs > 10) {
+      problems.push_back(pnh.resolveName("max_waiting_pairs") + ": must be 1..10");
     }
     if (!(max_skew_s_ >= 0 && max_skew_s_ < 1)) problems.push_back(pnh.resolveName("max_skew_s") + ": must be in [0, 1)");
     if (mount_xyz.size() != 3) problems.push_back(pnh.resolveName("mount_xyz") + ": needs 3 numbers [m]");
@@ -182,6 +188,7 @@ class DetectorNodelet : public nodelet::Nodelet {
       // same cores (and ~30 % more CPU per pair spent handing work between them).
       cv::setNumThreads(1);
     }
+    max_waiting_ = static_cast<std::size_t>(max_waiting_pairs);
     for (int i = 0; i < worker_threads; ++i) handovers_.push_back(std::make_unique<Handover>());
     for (int i = 0; i < worker_threads; ++i) workers_.emplace_back([this, i] { work(i); });
     left_topic_ = nh.resolveName("left/image_raw");
@@ -251,9 +258,11 @@ class DetectorNodelet : public nodelet::Nodelet {
       h.wake.notify_one();
       return;
     }
-    if (has_waiting_) ++dropped_;
-    waiting_ = std::move(pair);
-    has_waiting_ = true;
+    waiting_.push_back(std::move(pair));
+    if (waiting_.size() > max_waiting_) {  // the oldest goes: the freshest pairs are the useful ones
+      waiting_.pop_front();
+      ++dropped_;
+    }
   }
 
   void work(int index) {
@@ -263,10 +272,9 @@ class DetectorNodelet : public nodelet::Nodelet {
       std::uint64_t turn = 0;
       {
         std::unique_lock<std::mutex> lock(mutex_);
-        if (has_waiting_) {  // arrived while every worker was busy
-          pair = std::move(waiting_);
-          waiting_ = Pair{};
-          has_waiting_ = false;
+        if (!waiting_.empty()) {  // arrived while every worker was busy
+          pair = std::move(waiting_.front());
+          waiting_.pop_front();
           turn = next_turn_++;
         } else {
           idle_.push_back(index);
@@ -432,13 +440,13 @@ class DetectorNodelet : public nodelet::Nodelet {
     std::optional<Pair> pair;
     std::uint64_t turn = 0;
   };
-  // A pair goes to the worker idle last, or waits (only the latest) for the first one to finish; turns keep
+  // A pair goes to the worker idle last, or waits (the latest max_waiting_) for one to finish; turns keep
   // the output in arrival order (all guarded by mutex_, with config_, rebuild_, detector_).
   std::mutex mutex_;
   std::vector<std::unique_ptr<Handover>> handovers_;
   std::vector<int> idle_;  ///< idle workers, the latest last
-  Pair waiting_;
-  bool has_waiting_ = false;
+  std::deque<Pair> waiting_;        ///< pairs that arrived while every worker was busy, oldest first
+  std::size_t max_waiting_ = 2;
   bool stopping_ = false;
   bool rebuild_ = false;
   std::uint64_t next_turn_ = 0, publishing_turn_ = 0;
