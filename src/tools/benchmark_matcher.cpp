@@ -32,7 +32,7 @@ double nsPerPixel(F&& f, int repeat, int w, int h, int disparities) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int main(int argc, char**) {
   if (argc > 1) {
     std::cerr << "usage: benchmark_matcher\n  Times Sgbm3WayMatcher and cv::StereoSGBM (3WAY, block 5, the detector's\n"
                  "  settings) on 500x300 bands of smooth random texture, OpenCV single-threaded.\n";
