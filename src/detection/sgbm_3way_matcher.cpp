@@ -424,7 +424,10 @@ Sgbm3WayMatcher::Sgbm3WayMatcher(const SgbmParams& params) : params_(params) {
 }
 
 bool Sgbm3WayMatcher::accelerated() {
-  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("sse4.1");
+  static const bool avx2 = [] {
+    __builtin_cpu_init();  // in case this runs during static initialisation, before libgcc's own
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("sse4.1");
+  }();
   return avx2;
 }
 
