@@ -230,8 +230,8 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
                 box.width + 2 * config_.margin_px + num_disparities, box.height + 2 * config_.margin_px);
   band &= cv::Rect(min_disparity, 0, size.width - min_disparity, size.height);
   const cv::Rect right_rect = band - cv::Point(min_disparity, 0);
-  // Near the left edge the band is clipped: only disparities that fit in it can be searched (SGBM needs
-  // width > numDisparities, or it fails to allocate).
+  // Near the left edge the band is clipped: only disparities that fit in it can be searched (the matcher needs
+  // the band wider than its disparities plus its block).
   num_disparities = std::min(num_disparities, ((band.width - config_.block_size - 1) / 16) * 16);
   if (num_disparities < 16 || band.height < config_.block_size) {
     out.rectify_ms = lap.lapMs();

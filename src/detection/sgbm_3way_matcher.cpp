@@ -27,8 +27,6 @@ constexpr int kDispScale = 16; ///< disparities in 1/16 px
 constexpr int kInvalid = -kDispScale;
 constexpr int kClip = 15;      ///< preFilterCap 0: OpenCV clips the Sobel response to +-15
 
-inline Cost saturate(int v) { return static_cast<Cost>(std::clamp(v, SHRT_MIN, SHRT_MAX)); }
-
 [[gnu::target("avx2")]] inline __m256i load(const Cost* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
 [[gnu::target("avx2")]] inline void store(Cost* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
 
@@ -155,7 +153,7 @@ class StripeMatcher {
   /// Matches rows [start, end) and writes row y to row y + shift of `out` where that lies in [out_begin, out_end).
   [[gnu::target("avx2")]] void run(int start, int end, int shift, int out_begin, int out_end, cv::Mat& out) {
     const std::size_t line = static_cast<std::size_t>(w1_) * d_;
-    cost_.assign(line, saturate(p_.p2));  // OpenCV adds P2 to every cost once: it cancels in the paths
+    cost_.assign(line, cv::saturate_cast<Cost>(p_.p2));  // OpenCV adds P2 to every cost once: it cancels in the paths
     hsum_.assign(line * hsum_rows_, 0);
     pixel_costs_.assign(static_cast<std::size_t>(2 * half_ + 2) * d_, 0);
     horizontal_.assign(line + d_, 0);
@@ -254,7 +252,8 @@ class StripeMatcher {
       prefilter(right_, k, right_row_);
       for (int x = 0; x <= half_; ++x) pixelCost(x, pixelCosts(x));
     }
-    const __m256i p1 = _mm256_set1_epi16(saturate(p_.p1)), p2 = _mm256_set1_epi16(saturate(p_.p2));
+    const __m256i p1 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p1));
+    const __m256i p2 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p2));
     __m256i hv[kSlots], cost[kSlots], path[kSlots], next[kSlots], top[kSlots];
     for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();  // the left path starts from 0 costs
     __m256i min_p2 = p2;
@@ -315,7 +314,8 @@ class StripeMatcher {
     std::fill(row_.begin(), row_.end(), static_cast<short>(kInvalid));
     std::fill(disp2_.begin(), disp2_.end(), static_cast<short>(kInvalid));
     std::fill(disp2_cost_.begin(), disp2_cost_.end(), static_cast<Cost>(SHRT_MAX));
-    const __m256i p1 = _mm256_set1_epi16(saturate(p_.p1)), p2 = _mm256_set1_epi16(saturate(p_.p2));
+    const __m256i p1 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p1));
+    const __m256i p2 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p2));
     const __m256i lane_index = _mm256_setr_epi16(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     __m256i cost[kSlots], path[kSlots], next[kSlots];
     for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();
