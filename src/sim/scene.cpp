@@ -107,7 +107,8 @@ std::vector<std::string> Scene::validate() const {
   std::vector<std::string> p;
   requireRange(p, "rig.width", rig.width, 16, 8192);
   requireRange(p, "rig.height", rig.height, 16, 8192);
-  requireRange(p, "rig.pixel_size_um", rig.pixel_size_um, 0.5, 50);
+  // Up to 1 mm: small test and probe renders keep the field of view with few, large pixels.
+  requireRange(p, "rig.pixel_size_um", rig.pixel_size_um, 0.5, 1000);
   requireRange(p, "rig.focal_length_mm", rig.focal_length_mm, 1, 100);
   requireRange(p, "rig.water_focal_factor", rig.water_focal_factor, 1, 2);
   requireRange(p, "rig.baseline_m", rig.baseline_m, 0.01, 2);

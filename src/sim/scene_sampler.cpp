@@ -45,16 +45,6 @@ Eigen::Vector3d absorption(double water_type) {
   return (2.0 - water_type) * kAbsorptionGreen + (water_type - 1.0) * kAbsorptionBrown;
 }
 
-double boundingRadius(const SceneObject& o) {
-  switch (o.shape) {
-    case ShapeType::kSphere: return 0.5 * o.size_m.x();
-    case ShapeType::kCylinder: return 0.5 * std::hypot(o.size_m.x(), o.size_m.z());
-    case ShapeType::kBox: return 0.5 * o.size_m.norm();
-    case ShapeType::kPanel: return 0.5 * std::hypot(o.size_m.x(), o.size_m.y());
-  }
-  return 0.0;
-}
-
 const ColourFamily& family(const std::string& name) {
   for (const auto& f : colourFamilies()) {
     if (f.name == name) return f;
@@ -241,6 +231,16 @@ Eigen::Vector3d albedoFromHsv(double hue_deg, double saturation, double value) {
     rgb[i] = rgb[i] <= 0.04045 ? rgb[i] / 12.92 : std::pow((rgb[i] + 0.055) / 1.055, 2.4);
   }
   return rgb.cwiseMax(0.0).cwiseMin(1.0);
+}
+
+double boundingRadius(const SceneObject& o) {
+  switch (o.shape) {
+    case ShapeType::kSphere: return 0.5 * o.size_m.x();
+    case ShapeType::kCylinder: return 0.5 * std::hypot(o.size_m.x(), o.size_m.z());
+    case ShapeType::kBox: return 0.5 * o.size_m.norm();
+    case ShapeType::kPanel: return 0.5 * std::hypot(o.size_m.x(), o.size_m.y());
+  }
+  return 0.0;
 }
 
 SampledScene sampleScene(std::uint64_t seed, const SceneSamplerConfig& config) {

@@ -64,6 +64,10 @@ const std::vector<ColourFamily>& colourFamilies();
 /// Linear-RGB albedo of an sRGB colour given as hue [deg], saturation and value (0..1).
 Eigen::Vector3d albedoFromHsv(double hue_deg, double saturation, double value);
 
+/// [m] Radius of the smallest sphere about the object's centre that holds all of it (sampled objects keep
+/// these spheres apart, so they never intersect).
+double boundingRadius(const SceneObject& object);
+
 /// Draws the scene of `seed`: the same seed and config always give the same scene.
 /// @throw std::invalid_argument when `config` does not validate.
 SampledScene sampleScene(std::uint64_t seed, const SceneSamplerConfig& config = {});
