@@ -92,9 +92,12 @@ void drawSurface(Draw& draw, const ColourFamily& f, SceneObject& o) {
   o.shininess = draw.logUniform(10.0, 300.0);
 }
 
-/// Where the object's centre goes: a pixel (up to 8 % beyond the border, so some are cut) and a range.
+/// Where the object's centre goes: a pixel and a range. One in four centres may lie near or up to 8 % beyond
+/// the border (so the object is cut); the others stay 5 % inside it (near, large objects are cut all the same).
 Eigen::Vector3d drawPosition(Draw& draw, const SceneSamplerConfig& config, const StereoRig& rig, double radius) {
-  const double u = draw.uniform(-0.08, 1.08) * config.width, v = draw.uniform(-0.08, 1.08) * config.height;
+  const double margin = draw.chance(config.border_probability) ? -0.08 : 0.05;
+  const double u = draw.uniform(margin, 1.0 - margin) * config.width;
+  const double v = draw.uniform(margin, 1.0 - margin) * config.height;
   const cv::Matx33d& k = rig.left().K;
   const Eigen::Vector3d ray = Eigen::Vector3d((u - k(0, 2)) / k(0, 0), (v - k(1, 2)) / k(1, 1), 1.0).normalized();
   const double near = std::max(config.range_m.first, radius + 0.25);  // never around the camera
@@ -179,6 +182,7 @@ std::vector<std::string> SceneSamplerConfig::validate() const {
   ordered("water_type", water_type.first, water_type.second, 0, 2);
   ordered("target_luma", target_luma.first, target_luma.second, 1, 254);
   ordered("occluder_probability", occluder_probability, occluder_probability, 0, 1);
+  ordered("border_probability", border_probability, border_probability, 0, 1);
   if (designated.empty()) p.push_back("designated: no colour family");
   for (const auto* list : {&designated, &distractor_colours}) {
     for (const auto& name : *list) {

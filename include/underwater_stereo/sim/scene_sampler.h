@@ -30,6 +30,7 @@ struct SceneSamplerConfig {
   std::pair<double, double> water_type{0.0, 2.0}; ///< 0: clear blue ocean, 1: green coastal, 2: brown (CDOM)
   std::pair<double, double> target_luma{30.0, 200.0};  ///< auto-exposure's target mean BT.601 luma of the left image
   double occluder_probability = 0.35;             ///< chance per scene that one object is placed to hide part of another
+  double border_probability = 0.25;               ///< chance per object that its centre may lie at or beyond the border
   /// Designated colour families, named as the detector config names them.
   std::vector<std::string> designated{"red", "orange", "yellow", "green"};
   /// Distractor colour families (never designated).
