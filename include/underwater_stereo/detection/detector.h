@@ -12,7 +12,7 @@
 
 #include "underwater_stereo/detection/detector_config.h"
 #include "underwater_stereo/detection/raw_frame.h"
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
 
