@@ -37,6 +37,8 @@ std::vector<float> describe(const cv::Mat& bgr, const cv::Mat& hsv, const WaterC
   }
   cv::meanStdDev(wc.saliency[static_cast<int>(b.kind)](outer), s_mean, s_std, inside);
   const cv::Scalar raw = cv::mean(bgr(outer), inside);
+  const cv::Scalar water = cv::mean(wc.water(outer), inside);
+  const double water_sum = water[0] + water[1] + water[2] + 1e-3;
   const cv::Scalar hsv_mean = cv::mean(hsv(outer), inside);
   const double raw_sum = raw[0] + raw[1] + raw[2] + 1e-3;
   std::vector<cv::Point> hull;
@@ -60,7 +62,9 @@ std::vector<float> describe(const cv::Mat& bgr, const cv::Mat& hsv, const WaterC
           static_cast<float>(std::log(b.level)), static_cast<float>(b.kind == SaliencyKind::kFull ? 1 : 0),
           static_cast<float>(std::log(s_mean[0] + 1)),
           static_cast<float>(hsv_mean[1] / 255.0), static_cast<float>(raw_sum / (3 * 255.0)),
-          static_cast<float>(std::cos(hue)), static_cast<float>(std::sin(hue))};
+          static_cast<float>(std::cos(hue)), static_cast<float>(std::sin(hue)),
+          static_cast<float>(water[0] / water_sum), static_cast<float>(water[1] / water_sum),
+          static_cast<float>(std::log(water_sum / 3 + 1))};
 }
 
 }  // namespace
@@ -70,7 +74,7 @@ const std::vector<std::string>& blobFeatureNames() {
       "contrast_b", "contrast_g", "contrast_r", "chroma_b", "chroma_g", "chroma_r", "edge_b", "edge_g", "edge_r",
       "texture_b", "texture_g", "texture_r", "chromaticity_b", "chromaticity_g", "chromaticity_r", "log_area_fraction",
       "fill", "aspect", "solidity", "circularity", "log_level", "full_saliency", "log_saliency", "saturation",
-      "brightness", "hue_cos", "hue_sin"};
+      "brightness", "hue_cos", "hue_sin", "water_chromaticity_b", "water_chromaticity_g", "log_water_brightness"};
   return names;
 }
 

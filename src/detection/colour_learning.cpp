@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -111,6 +112,7 @@ std::vector<std::string> LearningOptions::validate() const {
   std::vector<std::string> p = training.validate();
   if (colours.empty()) p.push_back("no colours to learn");
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
+  if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
   return p;
 }
 
@@ -162,10 +164,38 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
   if (!problems.empty()) throw std::invalid_argument(joinProblems("bad labels", problems));
 }
 
-FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options) {
-  FrameSamples out;
-  std::vector<float> row;
-  for (const BlobProposal& b : proposer.proposals(RawFrame(frame.image))) {
+cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> veil(0.0, 0.35), gain(0.75, 1.3), exposure(0.7, 1.3), unit(0.0, 1.0);
+  // A water colour between blue-green and green-brown (B, G, R in 0-255).
+  const double t = unit(rng);
+  const cv::Vec3d water = cv::Vec3d(150, 130, 40) * (1 - t) + cv::Vec3d(60, 130, 110) * t;
+  const double a = veil(rng), e = exposure(rng);
+  const cv::Vec3d g(gain(rng), gain(rng), gain(rng));
+  cv::Mat out(bgr.size(), CV_8UC3);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const auto* p = bgr.ptr<cv::Vec3b>(y);
+    auto* o = out.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < bgr.cols; ++x) {
+      for (int c = 0; c < 3; ++c) o[x][c] = cv::saturate_cast<std::uint8_t>(e * g[c] * ((1 - a) * p[x][c] + a * water[c]));
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// Rows of one image of a frame (its labels) added to `out`; counts coverage when `count` is set.
+void addSamples(const cv::Mat& image, const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options,
+                bool count, FrameSamples& out) {
+  const std::vector<BlobProposal> proposals = proposer.proposals(RawFrame(image));
+  for (const LabelBox& l : frame.labels) {
+    if (!count || colourOfLabel(l.name, options) < 0 || l.box.height < options.min_label_px) continue;
+    ++out.objects;
+    out.proposed += std::any_of(proposals.begin(), proposals.end(),
+                                [&](const BlobProposal& b) { return iou(b.roi, l.box) >= kMatchIou; });
+  }
+  for (const BlobProposal& b : proposals) {
     int label = -1;
     bool ignore = false;
     for (const LabelBox& l : frame.labels) {
@@ -181,6 +211,17 @@ FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, con
     if (ignore && label < 0) continue;
     out.features.push_back(cv::Mat(1, static_cast<int>(b.features.size()), CV_32F, const_cast<float*>(b.features.data())));
     out.labels.push_back(label);
+  }
+}
+
+}  // namespace
+
+FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options,
+                       unsigned seed) {
+  FrameSamples out;
+  addSamples(frame.image, frame, proposer, options, true, out);
+  for (int k = 0; k < options.augment; ++k) {
+    addSamples(augmentedWater(frame.image, seed * 7919U + static_cast<unsigned>(k)), frame, proposer, options, false, out);
   }
   return out;
 }

@@ -28,7 +28,7 @@ namespace {
 const char* kUsage =
     "usage: learn_colours --images DIR --annotations DIR --out FILE.yaml [--base detector.yaml] [options]\n"
     "  Learns every designated colour from labelled frames and writes a complete detector configuration\n"
-    "  (the base's other settings kept) with its colour model beside it (FILE.colour_model.yml).\n"
+    "  (the base's other settings kept) with its colour model beside it (FILE.colour_model.yml.gz).\n"
     "  --images DIR        frames (.jpg, .jpeg, .png, .bmp); DIR may be repeated with --annotations in pairs\n"
     "  --annotations DIR   Pascal VOC XML per frame, same name (N.jpg -> N.xml); a label '<colour>' or\n"
     "                      '<anything>_<colour>' (buoy_red) teaches that colour, every other pixel is background\n"
@@ -38,6 +38,7 @@ const char* kUsage =
     "  --folds K           cross-validation folds by frame (default 5; 1 = none)\n"
     "  --seed S            fold assignment and forest seed (default 1)\n"
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
+    "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
     "Exit status: 0 written, 1 bad labels or images, 2 bad options or configuration.\n";
 
@@ -91,6 +92,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--background") o.learning.background_labels = split(v);
     else if (arg == "--folds") o.folds = static_cast<int>(number(1, 100));
     else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
+    else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
     else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
     else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
@@ -235,8 +237,16 @@ int main(int argc, char** argv) {
     proposer_config.candidates.source = ContourSource::kColourMask;
     const Detector proposer(proposer_config);
     std::vector<FrameSamples> samples;
-    for (const LabelledFrame& f : frames) samples.push_back(samplesOf(f, proposer, o.learning));
-    std::fprintf(stderr, "learn_colours: %zu frames\n", frames.size());
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+      samples.push_back(samplesOf(frames[i], proposer, o.learning, static_cast<unsigned>(i + 1)));
+    }
+    int objects = 0, proposed = 0;
+    for (const FrameSamples& s : samples) {
+      objects += s.objects;
+      proposed += s.proposed;
+    }
+    std::printf("%zu frames; the detector's proposals cover %d of %d labelled objects (the most it can find)\n",
+                frames.size(), proposed, objects);
     const double min_confidence = o.min_confidence > 0 ? o.min_confidence : base.learned.min_confidence;
     auto configWith = [&](const ColourModel& m) {
       DetectorConfig c = learnedConfig(base, o.out, std::make_shared<const ColourModel>(m), o.learning);
@@ -267,7 +277,7 @@ int main(int argc, char** argv) {
     const ColourModel model = trainOn(all, o.learning);
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
-    const std::string model_path = stem + ".colour_model.yml";
+    const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)
     model.save(model_path);
     writeConfig(o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning, o.min_confidence);
     loadDetectorConfigFile(o.out);  // what was written must load

@@ -37,6 +37,8 @@ struct LearningOptions {
   std::vector<std::string> background_labels;   ///< other label names, learnt as background
   /// Labelled objects shorter than this [px] lie beyond the working range: neither targets nor background.
   int min_label_px = 15;
+  /// Each frame is also learnt from this many copies seen through other water (augmentedWater()).
+  int augment = 2;
   ColourModelTraining training;
 
   std::vector<std::string> validate() const;
@@ -50,13 +52,22 @@ int colourOfLabel(const std::string& name, const LearningOptions& options);
 /// an example. @throw std::invalid_argument listing every problem with file and box.
 void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
 
+/// `bgr` as if seen through other water, drawn from `seed`: the water's veil over it deepened towards a
+/// random water colour (up to 35 %), per-channel gains of 0.75-1.3 (white balance, attenuation) and an
+/// overall exposure of 0.7-1.3. Labels stay valid (no geometry changes).
+cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed);
+
 /// Training rows of one frame: the detector's proposals with their features and label (-1 background,
 /// k colour k); proposals that half-overlap a labelled object, or overlap a too-small one, are left out.
 struct FrameSamples {
   cv::Mat features;          ///< CV_32F, one row per sample
   std::vector<int> labels;
+  int objects = 0;           ///< labelled objects of a colour, >= min_label_px tall
+  int proposed = 0;          ///< of them, those some proposal matches (the most the model can find)
 };
-FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options);
+/// With options.augment > 0, the rows of the frame's augmented copies (seeds from `seed`) are added.
+FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options,
+                       unsigned seed = 1);
 
 /// Recall, false detections and confusions of a config on held-out frames.
 struct LearningScore {
