@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Learning colours from labelled frames: a known colour model is recovered from synthetic frames; bad labels
+// are named with file and box; a learnt model loads through the config validator.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "underwater_stereo/detection/colour_learning.h"
+#include "underwater_stereo/detection/detector.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+/// A 480x360 frame of water (random colour) with buoys: red and green (labelled) and white (not: background).
+LabelledFrame syntheticFrame(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const cv::Vec3d water(60 + 120 * u(rng), 110 + 60 * u(rng), 40 + 60 * u(rng));
+  LabelledFrame f;
+  f.name = "synthetic_" + std::to_string(seed);
+  f.image = cv::Mat(360, 480, CV_8UC3);
+  cv::randn(f.image, cv::Scalar(water[0], water[1], water[2]), cv::Scalar(3, 3, 3));
+  const struct {
+    const char* label;
+    cv::Vec3d colour;
+  } kinds[] = {{"buoy_red", {30, 40, 210}}, {"buoy_green", {40, 200, 50}}, {"", {235, 235, 235}}};
+  std::vector<cv::Rect> used;
+  for (int k = 0; k < 4; ++k) {
+    const auto& kind = kinds[k % 3];
+    const int r = 10 + static_cast<int>(25 * u(rng));
+    const cv::Point c(r + static_cast<int>((480 - 2 * r) * u(rng)), r + static_cast<int>((360 - 2 * r) * u(rng)));
+    const cv::Rect box(c.x - r, c.y - r, 2 * r + 1, 2 * r + 1);
+    bool overlaps = false;
+    for (const cv::Rect& o : used) overlaps |= (o & (box + cv::Size(20, 20) - cv::Point(10, 10))).area() > 0;
+    if (overlaps) continue;
+    used.push_back(box);
+    const double t = 0.3 + 0.6 * u(rng);  // transmission: near and far
+    cv::Scalar seen;
+    for (int ch = 0; ch < 3; ++ch) seen[ch] = kind.colour[ch] * t + water[ch] * (1 - t);
+    cv::circle(f.image, c, r, seen, cv::FILLED);
+    if (*kind.label) f.labels.push_back({kind.label, box});
+  }
+  cv::GaussianBlur(f.image, f.image, cv::Size(3, 3), 0);
+  return f;
+}
+
+DetectorConfig baseConfig() {
+  DetectorConfig c = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  c.search_scale = 1.0;
+  c.candidates.min_area_px = 60;
+  return c;
+}
+
+LearningOptions options() {
+  LearningOptions o;
+  o.colours = {"red", "green"};
+  o.augment = 1;
+  o.training.trees = 40;
+  return o;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+ColourModel learnt(const std::vector<LabelledFrame>& frames, const LearningOptions& o) {
+  DetectorConfig proposer_config = baseConfig();
+  proposer_config.candidates.source = ContourSource::kColourMask;
+  const Detector proposer(proposer_config);
+  cv::Mat features;
+  std::vector<int> labels;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const FrameSamples s = samplesOf(frames[i], proposer, o, static_cast<unsigned>(i + 1));
+    if (s.features.empty()) continue;
+    features.push_back(s.features);
+    labels.insert(labels.end(), s.labels.begin(), s.labels.end());
+  }
+  return ColourModel::train(features, labels, o.colours, o.training);
+}
+
+}  // namespace
+
+TEST(ColourLearning, RecoversAKnownColourModel) {
+  std::vector<LabelledFrame> train, test;
+  for (unsigned s = 0; s < 40; ++s) train.push_back(syntheticFrame(s));
+  for (unsigned s = 1000; s < 1020; ++s) test.push_back(syntheticFrame(s));
+  const LearningOptions o = options();
+  checkLabels(train, o);
+  const auto model = std::make_shared<const ColourModel>(learnt(train, o));
+  const LearningScore score_ = score(Detector(learnedConfig(baseConfig(), "in memory", model, o)), test, o);
+  SCOPED_TRACE("seeds 1000-1019");
+  EXPECT_GE(score_.found[0], 0.9 * score_.labelled[0]) << "red";
+  EXPECT_GE(score_.found[1], 0.9 * score_.labelled[1]) << "green";
+  EXPECT_EQ(score_.confusion[0][1] + score_.confusion[1][0], 0) << "red and green confused";
+  EXPECT_LE(score_.false_detections, 0.2 * score_.frames) << "white buoys or water reported";
+}
+
+TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
+  std::vector<LabelledFrame> train;
+  for (unsigned s = 0; s < 20; ++s) train.push_back(syntheticFrame(s));
+  const LearningOptions o = options();
+  const std::string model_path = ::testing::TempDir() + "roundtrip.colour_model.yml.gz";
+  learnt(train, o).save(model_path);
+  const DetectorConfig ok = parseDetectorConfig(
+      YAML::Load("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
+                 "colour_model: {file: roundtrip.colour_model.yml.gz, min_confidence: 0.4}"),
+      ::testing::TempDir());
+  ASSERT_TRUE(ok.learned.model);
+  EXPECT_EQ(ok.learned.model->colours(), o.colours);
+  EXPECT_DOUBLE_EQ(ok.learned.min_confidence, 0.4);
+  try {
+    parseDetectorConfig(YAML::Load("colours: [{name: red}, {name: orange}]\ncandidates: {source: learned}\n"
+                                   "colour_model: {file: roundtrip.colour_model.yml.gz, min_confidence: 2}"),
+                        ::testing::TempDir());
+    FAIL() << "a colour the model has not learnt was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'orange' is designated but the colour model"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("min_confidence"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parseDetectorConfig(YAML::Load("colours: [{name: red}]\ncandidates: {source: learned}\n"
+                                              "colour_model: {file: missing.yml.gz}"),
+                                   ::testing::TempDir()),
+               std::invalid_argument);
+  EXPECT_THROW(parseDetectorConfig(YAML::Load("colours: [{name: red}]\ncandidates: {source: colour_mask}")),
+               std::invalid_argument)
+      << "a hue range is needed without a learnt model";
+  const std::string not_a_model = writeTemp("not_a_model.yml", "%YAML:1.0\ncolours: [red]\nfeatures: [a, b]\n");
+  try {
+    ColourModel::load(not_a_model);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(not_a_model), std::string::npos) << e.what();
+  }
+}
+
+TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
+  const std::string head = "<annotation><object><name>buoy_red</name><bndbox>";
+  auto messageOf = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string empty_box = writeTemp("empty.xml", head + "<xmin>10</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(empty_box); }).find(empty_box + ": object 0 (buoy_red): empty box"), std::string::npos);
+  const std::string not_number = writeTemp("nan.xml", head + "<xmin>a</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(not_number); }).find("<xmin> 'a' is not a number"), std::string::npos);
+  const std::string unclosed = writeTemp("unclosed.xml", head + "<xmin>1</xmin>");
+  EXPECT_NE(messageOf([&] { readVocLabels(unclosed); }).find(unclosed + ": unreadable XML"), std::string::npos);
+  const std::string not_voc = writeTemp("not_voc.xml", "hello");
+  EXPECT_NE(messageOf([&] { readVocLabels(not_voc); }).find("not a Pascal VOC annotation"), std::string::npos);
+  EXPECT_NE(messageOf([&] { readVocLabels(::testing::TempDir() + "absent.xml"); }).find("cannot be read"), std::string::npos);
+
+  LabelledFrame f;
+  f.name = "frame_7.jpg";
+  f.image = cv::Mat(100, 100, CV_8UC3, cv::Scalar::all(90));
+  f.labels = {{"buoy_red", cv::Rect(90, 90, 20, 20)}, {"gate", cv::Rect(10, 10, 5, 5)}};
+  const std::string m = messageOf([&] { checkLabels({f}, options()); });
+  EXPECT_NE(m.find("frame_7.jpg: box 0 (buoy_red) [90, 90, 110, 110]: outside the 100x100 image"), std::string::npos) << m;
+  EXPECT_NE(m.find("frame_7.jpg: box 1 (gate) [10, 10, 15, 15]: label 'gate' names no designated colour"), std::string::npos) << m;
+  EXPECT_NE(m.find("colour 'green': no labelled example"), std::string::npos) << m;
+  LearningOptions with_gate = options();
+  with_gate.background_labels = {"gate"};
+  EXPECT_EQ(colourOfLabel("gate", with_gate), -1);
+  EXPECT_EQ(colourOfLabel("green", with_gate), 1);
+  EXPECT_EQ(colourOfLabel("buoy_red", with_gate), 0);
+}

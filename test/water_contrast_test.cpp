@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The water model: a pixel's contrast with the local water is log((I + o) / (B + o)); objects seen through
+// water of any colour, at any transmission, stand out and are proposed.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "underwater_stereo/detection/blob_proposals.h"
+#include "underwater_stereo/detection/water_contrast.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+struct Water {
+  const char* name;
+  cv::Vec3d veil;  ///< B, G, R of the water far away, 0-255
+};
+const Water kWaters[] = {{"clear blue", {190, 120, 40}}, {"green", {90, 150, 70}}, {"brown", {50, 110, 120}}};
+
+/// What the camera sees of an object of own colour `j` with transmission t: I = J t + B (1 - t).
+cv::Vec3b seen(const cv::Vec3d& j, const cv::Vec3d& b, double t) {
+  cv::Vec3b out;
+  for (int c = 0; c < 3; ++c) out[c] = cv::saturate_cast<uchar>(j[c] * t + b[c] * (1 - t));
+  return out;
+}
+
+/// A 640x480 frame of water (a gentle vertical gradient plus sensor noise) with one disc of colour `object`.
+cv::Mat frameWith(const cv::Vec3d& water, const cv::Vec3b& object, cv::Point centre, int radius, unsigned seed) {
+  cv::Mat frame(480, 640, CV_8UC3);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0, 2.0);
+  for (int y = 0; y < frame.rows; ++y) {
+    const double k = 1.15 - 0.3 * y / frame.rows;  // brighter towards the surface
+    for (int x = 0; x < frame.cols; ++x) {
+      for (int c = 0; c < 3; ++c) frame.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uchar>(water[c] * k + noise(rng));
+    }
+  }
+  cv::Mat disc = cv::Mat::zeros(frame.size(), CV_8UC1);
+  cv::circle(disc, centre, radius, 255, cv::FILLED);
+  for (int y = 0; y < frame.rows; ++y) {
+    for (int x = 0; x < frame.cols; ++x) {
+      if (!disc.at<uchar>(y, x)) continue;
+      const double k = 1.15 - 0.3 * y / frame.rows;
+      for (int c = 0; c < 3; ++c) frame.at<cv::Vec3b>(y, x)[c] = cv::saturate_cast<uchar>(object[c] * k + noise(rng));
+    }
+  }
+  return frame;
+}
+
+}  // namespace
+
+TEST(WaterContrast, MeasuresTheLogRatioToTheLocalWater) {
+  for (const Water& w : kWaters) {
+    const cv::Vec3d red_buoy(20, 30, 220);
+    for (double t : {0.9, 0.5, 0.2}) {
+      const cv::Vec3b object = seen(red_buoy, w.veil, t);
+      const cv::Mat frame = frameWith(w.veil, object, {320, 240}, 30, 7);
+      const WaterContrast wc = measureWaterContrast(frame, WaterContrastConfig{});
+      // The local water under the object is the water around it (the object is small against the window).
+      const cv::Vec3b water = wc.water.at<cv::Vec3b>(240, 320);
+      const double k = 1.15 - 0.3 * 240 / 480.0;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(water[c], w.veil[c] * k, 4.0) << w.name << " t=" << t << " channel " << c;
+        const double expected = std::log((object[c] * k + 4) / (w.veil[c] * k + 4));
+        const double measured = cv::mean(wc.contrast(cv::Rect(310, 230, 20, 20)))[c];
+        EXPECT_NEAR(measured, expected, 0.05) << w.name << " t=" << t << " channel " << c;
+      }
+      // A red object moves the colour towards red whatever the water: red gains most against it.
+      const cv::Scalar chroma = cv::mean(wc.chroma(cv::Rect(310, 230, 20, 20)));
+      EXPECT_GT(chroma[2], chroma[0]) << w.name << " t=" << t;
+      EXPECT_GT(chroma[2], chroma[1]) << w.name << " t=" << t;
+    }
+  }
+}
+
+TEST(WaterContrast, SaliencyIsNormalisedByTheFrame) {
+  // The same object against the same water stands out alike in a dim and a bright exposure.
+  const cv::Vec3d water(90, 150, 70);
+  const cv::Vec3b object = seen({20, 30, 220}, water, 0.4);
+  const cv::Mat bright = frameWith(water, object, {320, 240}, 30, 3);
+  cv::Mat dim;
+  bright.convertTo(dim, CV_8UC3, 0.5);
+  const double s_bright = cv::mean(measureWaterContrast(bright, {}).saliency[0](cv::Rect(310, 230, 20, 20)))[0];
+  const double s_dim = cv::mean(measureWaterContrast(dim, {}).saliency[0](cv::Rect(310, 230, 20, 20)))[0];
+  EXPECT_GT(s_bright, 8);
+  EXPECT_GT(s_dim, 8);
+}
+
+TEST(WaterContrast, AgainstGivenWaterEqualsOwnMeasurement) {
+  const cv::Vec3d water(90, 150, 70);
+  const cv::Mat frame = frameWith(water, seen({20, 30, 220}, water, 0.5), {320, 240}, 30, 5);
+  const WaterContrast whole = measureWaterContrast(frame, {});
+  const cv::Rect part(200, 120, 240, 240);
+  const WaterContrast cut = contrastAgainst(frame(part), whole.water(part), whole.stats, {});
+  EXPECT_EQ(cv::norm(cut.saliency[1], whole.saliency[1](part), cv::NORM_INF), 0.0);
+}
+
+TEST(WaterContrast, RejectsBadInput) {
+  EXPECT_THROW(measureWaterContrast(cv::Mat(), {}), std::invalid_argument);
+  EXPECT_THROW(measureWaterContrast(cv::Mat(10, 10, CV_8UC1), {}), std::invalid_argument);
+  WaterContrastConfig bad;
+  bad.background_scale = 0;
+  bad.ratio_offset = -1;
+  EXPECT_EQ(bad.validate().size(), 2u);
+  EXPECT_THROW(measureWaterContrast(cv::Mat(10, 10, CV_8UC3), bad), std::invalid_argument);
+  const cv::Mat img(20, 20, CV_8UC3, cv::Scalar(1, 2, 3));
+  EXPECT_THROW(contrastAgainst(img, cv::Mat(10, 10, CV_8UC3), ContrastStats{}, {}), std::invalid_argument);
+}
+
+TEST(BlobProposals, ProposeAFadedObjectInAnyWater) {
+  // A dark red buoy far away (transmission 0.15: little of its red left) is still proposed, where it is.
+  for (const Water& w : kWaters) {
+    const cv::Mat frame = frameWith(w.veil, seen({20, 30, 200}, w.veil, 0.15), {400, 300}, 18, 11);
+    const std::vector<BlobProposal> found = proposeBlobs(frame, measureWaterContrast(frame, {}), ProposalConfig{});
+    bool hit = false;
+    for (const BlobProposal& b : found) {
+      ASSERT_EQ(b.features.size(), static_cast<std::size_t>(kBlobFeatureCount));
+      const double area = M_PI * 18 * 18;
+      if ((b.roi & cv::Rect(382, 282, 37, 37)).area() > 0.7 * b.roi.area() && std::abs(b.area_px - area) < 0.35 * area) hit = true;
+    }
+    EXPECT_TRUE(hit) << w.name << ": " << found.size() << " proposals, none on the buoy";
+    EXPECT_LT(found.size(), 20u) << w.name << ": plain water proposed";
+  }
+}
+
+TEST(BlobProposals, FeatureNamesMatchTheCount) {
+  EXPECT_EQ(blobFeatureNames().size(), static_cast<std::size_t>(kBlobFeatureCount));
+  ProposalConfig bad;
+  bad.levels.clear();
+  bad.min_area_px = 0;
+  EXPECT_EQ(bad.validate().size(), 2u);
+}
