@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Tracking in a running graph against the simulator's ground truth: the simulated head (true pose on TF as
+// odom) feeds the detector, which tracks in odom. Checks over `scene_seconds` of scene time: one track id per
+// object (an IDF1-style figure is printed), landmark errors at confirmation and after 20 observations, every
+// object kept as a landmark while the camera looks away (`look_away`), ~get_landmark, ~enable, ~reset_tracks.
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+#include <std_srvs/SetBool.h>
+#include <std_srvs/Trigger.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <set>
+
+#include "ros_test_helpers.h"
+#include "underwater_stereo/DetectedObjectArray.h"
+#include "underwater_stereo/GetLandmark.h"
+#include "underwater_stereo/GroundTruth.h"
+
+using namespace underwater_stereo;
+using underwater_stereo::test::waitFor;
+
+namespace {
+
+struct Listener {
+  explicit Listener(ros::NodeHandle& nh) {
+    objects_sub = nh.subscribe("/stereo/detector/objects", 100, &Listener::onObjects, this);
+    landmarks_sub = nh.subscribe("/stereo/detector/landmarks", 100, &Listener::onLandmarks, this);
+    truth_sub = nh.subscribe("/stereo/ground_truth", 100, &Listener::onTruth, this);
+  }
+  void onObjects(const DetectedObjectArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    objects[m->header.stamp] = m;
+  }
+  void onLandmarks(const DetectedObjectArrayConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    landmarks[m->header.stamp] = m;
+  }
+  void onTruth(const GroundTruthConstPtr& m) {
+    std::lock_guard<std::mutex> lock(mutex);
+    truths[m->header.stamp] = m;
+    last_seq = m->header.seq;
+  }
+  std::mutex mutex;
+  std::map<ros::Time, DetectedObjectArrayConstPtr> objects, landmarks;
+  std::map<ros::Time, GroundTruthConstPtr> truths;
+  std::uint32_t last_seq = 0;
+  ros::Subscriber objects_sub, landmarks_sub, truth_sub;
+};
+
+Eigen::Vector3d vec(const geometry_msgs::Point& p) { return {p.x, p.y, p.z}; }
+
+/// The ground-truth object nearest to `p` (positions in the stereo frame, or in the fixed frame), within
+/// 0.15 m + 5 % of its range; -1 when none.
+int nearestTruth(const GroundTruth& truth, const Eigen::Vector3d& p, bool fixed) {
+  int best = -1;
+  double best_d = 1e9;
+  for (std::size_t i = 0; i < truth.objects.size(); ++i) {
+    const auto& o = truth.objects[i];
+    const double d = (vec(fixed ? o.position_fixed : o.position) - p).norm();
+    if (d < best_d && d < 0.15 + 0.05 * o.range) {
+      best_d = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+/// [deg] how far the camera looks away from its start (optical axis against odom x).
+double lookAwayDeg(const GroundTruth& truth) {
+  const auto& q = truth.camera_pose.orientation;
+  const Eigen::Vector3d forward = Eigen::Quaterniond(q.w, q.x, q.y, q.z) * Eigen::Vector3d::UnitZ();
+  return std::acos(std::clamp(forward.x() / forward.norm(), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
+  ros::NodeHandle nh, pnh("~");
+  const double rate = pnh.param("rate", 3.0), scene_seconds = pnh.param("scene_seconds", 60.0);
+  const bool look_away = pnh.param("look_away", false);
+  Listener listener(nh);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  const auto scene_time = [&] {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    return listener.last_seq / rate;
+  };
+  ASSERT_TRUE(waitFor([&] { return scene_time() >= scene_seconds; }, 30.0 + 4.0 * scene_seconds * rate * 0.5))
+      << "scene time reached: " << scene_time() << " s";
+  ros::WallDuration(2.0).sleep();  // the last pairs' detections
+
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  // Track ids per true object, from ~objects.
+  std::map<std::string, std::map<std::uint32_t, int>> ids, confirmed_ids;
+  int matched = 0;
+  for (const auto& [stamp, found] : listener.objects) {
+    const auto truth = listener.truths.find(stamp);
+    if (truth == listener.truths.end()) continue;
+    for (const DetectedObject& o : found->objects) {
+      const int t = nearestTruth(*truth->second, vec(o.position), false);
+      if (t < 0 || o.track_id == 0) continue;
+      ++matched;
+      const std::string& name = truth->second->objects[static_cast<std::size_t>(t)].name;
+      ++ids[name][o.track_id];
+      if (o.observations >= 3) ++confirmed_ids[name][o.track_id];
+    }
+  }
+  int best = 0, all = 0;
+  for (const auto& [name, counts] : ids) {
+    int top = 0;
+    for (const auto& [id, n] : counts) {
+      all += n;
+      top = std::max(top, n);
+    }
+    best += top;
+    std::printf("object %s: %zu track ids (%zu confirmed)\n", name.c_str(), counts.size(), confirmed_ids[name].size());
+    EXPECT_EQ(confirmed_ids[name].size(), 1U) << name << ": a confirmed id switch";
+  }
+  const double idf1 = all > 0 ? static_cast<double>(best) / all : 0.0;
+  std::printf("IDF1-style (detections carrying their object's main id): %.4f of %d tracked detections over %.0f s\n",
+              idf1, all, scene_time());
+  const std::size_t objects_in_scene = listener.truths.begin()->second->objects.size();
+  EXPECT_EQ(ids.size(), objects_in_scene);
+  EXPECT_GE(idf1, 0.98);
+  EXPECT_GT(matched, 50);
+
+  // Landmarks against the truth in odom.
+  std::set<std::uint32_t> seen_ids;
+  double worst_at_confirmation = 0, worst_after_20 = 0;
+  int away_messages = 0, away_complete = 0, after_20 = 0;
+  for (const auto& [stamp, landmarks] : listener.landmarks) {
+    const auto truth = listener.truths.find(stamp);
+    if (truth == listener.truths.end() || landmarks->header.frame_id != "odom") continue;
+    std::set<int> present;
+    for (const DetectedObject& l : landmarks->objects) {
+      const int t = nearestTruth(*truth->second, vec(l.position), true);
+      EXPECT_GE(t, 0) << "landmark " << l.track_id << " matches no object at " << vec(l.position).transpose();
+      if (t < 0) continue;
+      present.insert(t);
+      const auto& o = truth->second->objects[static_cast<std::size_t>(t)];
+      const double error = (vec(l.position) - vec(o.position_fixed)).norm() / o.range;
+      if (seen_ids.insert(l.track_id).second) worst_at_confirmation = std::max(worst_at_confirmation, error);
+      if (l.observations >= 20) {
+        worst_after_20 = std::max(worst_after_20, error);
+        ++after_20;
+      }
+    }
+    if (lookAwayDeg(*truth->second) > 90.0) {
+      ++away_messages;
+      away_complete += present.size() == objects_in_scene;
+    }
+  }
+  std::printf("landmark error / range: worst at confirmation %.2f %%, worst after >= 20 observations %.2f %% (%d)\n",
+              100 * worst_at_confirmation, 100 * worst_after_20, after_20);
+  EXPECT_LE(worst_at_confirmation, 0.02);
+  EXPECT_LE(worst_after_20, 0.01);
+  EXPECT_GT(after_20, 20);
+  if (look_away) {
+    std::printf("looking away (> 90 deg): %d pairs, all %zu objects among the landmarks in %d\n", away_messages,
+                objects_in_scene, away_complete);
+    EXPECT_GE(away_messages, static_cast<int>(5 * rate));
+    EXPECT_EQ(away_complete, away_messages);
+  }
+}
+
+TEST(TrackingGraph, MissionServices) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(ros::service::waitForService("/stereo/detector/get_landmark", ros::Duration(30)));
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  GetLandmark get;
+  get.request.target = "red_buoy";
+  ASSERT_TRUE(waitFor([&] { return ros::service::call("/stereo/detector/get_landmark", get) && get.response.found; },
+                      60.0))
+      << get.response.message;
+  EXPECT_EQ(get.response.label, "red_buoy");
+  EXPECT_EQ(get.response.pose.header.frame_id, "odom");
+  EXPECT_GE(get.response.observations, 3U);
+  EXPECT_GT(get.response.position_covariance[0], 0.0);
+  GetLandmark by_id;
+  by_id.request.track_id = get.response.track_id;
+  ASSERT_TRUE(ros::service::call("/stereo/detector/get_landmark", by_id));
+  EXPECT_TRUE(by_id.response.found);
+  GetLandmark unknown;
+  unknown.request.target = "sea_serpent";
+  ASSERT_TRUE(ros::service::call("/stereo/detector/get_landmark", unknown));
+  EXPECT_FALSE(unknown.response.found);
+  EXPECT_NE(unknown.response.message.find("no target named"), std::string::npos) << unknown.response.message;
+
+  // Paused: no pair processed; resumed: pairs again.
+  int objects = 0;
+  std::mutex mutex;
+  ros::Subscriber sub = nh.subscribe<DetectedObjectArray>("/stereo/detector/objects", 10,
+                                                          [&](const DetectedObjectArrayConstPtr&) {
+                                                            std::lock_guard<std::mutex> lock(mutex);
+                                                            ++objects;
+                                                          });
+  std_srvs::SetBool enable;
+  enable.request.data = false;
+  ASSERT_TRUE(ros::service::call("/stereo/detector/enable", enable));
+  EXPECT_TRUE(enable.response.success);
+  ros::WallDuration(2.0).sleep();  // pairs in flight
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    objects = 0;
+  }
+  ros::WallDuration(3.0).sleep();
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_EQ(objects, 0) << "pairs processed while paused";
+  }
+  enable.request.data = true;
+  ASSERT_TRUE(ros::service::call("/stereo/detector/enable", enable));
+  EXPECT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(mutex);
+        return objects >= 2;
+      },
+      30.0));
+
+  std_srvs::Trigger reset;
+  ASSERT_TRUE(ros::service::call("/stereo/detector/reset_tracks", reset));
+  EXPECT_TRUE(reset.response.success);
+  by_id.response = GetLandmark::Response();
+  ASSERT_TRUE(ros::service::call("/stereo/detector/get_landmark", by_id));
+  EXPECT_FALSE(by_id.response.found) << "ids are never reused: the old track is gone for good";
+}
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "tracking_graph_test");
+  return RUN_ALL_TESTS();
+}
