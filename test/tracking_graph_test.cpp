@@ -91,6 +91,7 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
   ASSERT_TRUE(waitFor([&] { return scene_time() >= scene_seconds; }, 30.0 + 4.0 * scene_seconds * rate * 0.5))
       << "scene time reached: " << scene_time() << " s";
   ros::WallDuration(2.0).sleep();  // the last pairs' detections
+  const double seconds = scene_time();
 
   std::lock_guard<std::mutex> lock(listener.mutex);
   // Track ids per true object, from ~objects.
@@ -121,7 +122,7 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
   }
   const double idf1 = all > 0 ? static_cast<double>(best) / all : 0.0;
   std::printf("IDF1-style (detections carrying their object's main id): %.4f of %d tracked detections over %.0f s\n",
-              idf1, all, scene_time());
+              idf1, all, seconds);
   const std::size_t objects_in_scene = listener.truths.begin()->second->objects.size();
   EXPECT_EQ(ids.size(), objects_in_scene);
   EXPECT_GE(idf1, 0.98);

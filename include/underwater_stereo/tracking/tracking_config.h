@@ -34,7 +34,8 @@ struct TrackingConfig {
   double min_sigma_m = 0.005;             ///< [m] added to both
 
   // Motion model: constant velocity driven by white acceleration noise.
-  double acceleration_sigma_mps2 = 0.05;  ///< [m/s^2] how fast a track's velocity may change
+  /// [m/s^2] how fast a track's velocity may change (slowly: out of view, position uncertainty grows as dt^3)
+  double acceleration_sigma_mps2 = 0.01;
   double initial_speed_sigma_mps = 0.3;   ///< [m/s] velocity uncertainty of a new track (per axis)
 
   double gate_chi2 = 16.27;   ///< squared Mahalanobis distance beyond which a detection cannot join a track (3 dof, 99.9 %)
