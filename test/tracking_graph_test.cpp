@@ -131,7 +131,7 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
   // Landmarks against the truth in odom.
   std::set<std::uint32_t> seen_ids;
   double worst_at_confirmation = 0, worst_after_20 = 0;
-  int away_messages = 0, away_complete = 0, after_20 = 0;
+  int away_messages = 0, away_complete = 0, after_20 = 0, reported = 0;
   for (const auto& [stamp, landmarks] : listener.landmarks) {
     const auto truth = listener.truths.find(stamp);
     if (truth == listener.truths.end() || landmarks->header.frame_id != "odom") continue;
@@ -147,6 +147,11 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
       if (l.observations >= 20) {
         worst_after_20 = std::max(worst_after_20, error);
         ++after_20;
+        if (error > 0.01 && ++reported <= 10) {
+          std::printf("  %s #%u at scene t=%.1f s: error %.2f %% of %.2f m, %u observations, last seen %.1f s ago\n",
+                      o.name.c_str(), l.track_id, truth->second->header.seq / rate, 100 * error, o.range,
+                      l.observations, (stamp - l.last_seen).toSec());
+        }
       }
     }
     if (lookAwayDeg(*truth->second) > 90.0) {

@@ -27,6 +27,21 @@ void ConstantVelocityFilter::predict(double dt_s, double acceleration_sigma) {
   p_ = f * p_ * f.transpose() + noise;
 }
 
+void ConstantVelocityFilter::hold(double dt_s, double acceleration_sigma) {
+  if (dt_s <= 0.0) return;
+  const double q = acceleration_sigma * acceleration_sigma;
+  // The velocity's own uncertainty enters the position as if it had been applied, so a gate still opens wide
+  // enough for a point that did move.
+  p_.topLeftCorner<3, 3>() += p_.bottomRightCorner<3, 3>() * (dt_s * dt_s) +
+                              Eigen::Matrix3d::Identity() * (q * dt_s * dt_s * dt_s * dt_s / 4);
+  p_.bottomRightCorner<3, 3>() += Eigen::Matrix3d::Identity() * (q * dt_s * dt_s);
+}
+
+double ConstantVelocityFilter::velocitySignificance() const {
+  const Eigen::Vector3d v = x_.tail<3>();
+  return v.dot(p_.bottomRightCorner<3, 3>().ldlt().solve(v));
+}
+
 double ConstantVelocityFilter::mahalanobis2(const Eigen::Vector3d& z, const Eigen::Matrix3d& r) const {
   const Eigen::Vector3d innovation = z - x_.head<3>();
   const Eigen::Matrix3d s = p_.topLeftCorner<3, 3>() + r;

@@ -13,6 +13,8 @@ namespace underwater_stereo {
 namespace {
 
 constexpr double kMinJumpDtS = 1e-3;  ///< [s] pose changes between pairs closer than this are rated over this
+/// An unseen track moves on only when its velocity is this significant (chi-square, 3 dof, 95 %).
+constexpr double kMovingChi2 = 7.81;
 
 std::string number(double v) {
   char buffer[32];
@@ -44,7 +46,10 @@ Tracker::Tracker(const TrackingConfig& config)
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid tracking configuration", problems));
 }
 
-void Tracker::reset() { tracks_.clear(); }
+void Tracker::reset() {
+  tracks_.clear();
+  last_stamp_s_ = std::numeric_limits<double>::quiet_NaN();
+}
 
 const Track* Tracker::find(std::uint32_t id) const {
   for (const Track& t : tracks_) {
@@ -108,9 +113,18 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     tracks_.clear();
   }
   const double dt = std::isnan(last_stamp_s_) ? 0.0 : std::max(0.0, frame.stamp_s - last_stamp_s_);
+  // A track not seen in the previous pair whose velocity is not significantly non-zero stays where it is: a
+  // moored buoy's velocity noise must not carry it away while the camera looks elsewhere.
+  for (Track& t : tracks_) {
+    const bool coasting = t.last_seen_s < last_stamp_s_;
+    if (coasting && t.filter.velocitySignificance() < kMovingChi2) {
+      t.filter.hold(dt, config_.acceleration_sigma_mps2);
+    } else {
+      t.filter.predict(dt, config_.acceleration_sigma_mps2);
+    }
+  }
   last_stamp_s_ = frame.stamp_s;
   last_pose_ = frame.camera_pose;
-  for (Track& t : tracks_) t.filter.predict(dt, config_.acceleration_sigma_mps2);
 
   // Observations in the tracking frame.
   const std::size_t n = frame.observations.size();

@@ -21,6 +21,11 @@ class ConstantVelocityFilter {
 
   /// Moves the state `dt_s` ahead (dt_s >= 0); `acceleration_sigma` [m/s^2] sets the process noise.
   void predict(double dt_s, double acceleration_sigma);
+  /// Like predict(), but the position stays where it is (the velocity is kept, not applied); the uncertainty
+  /// grows as with predict().
+  void hold(double dt_s, double acceleration_sigma);
+  /// Squared Mahalanobis distance of the velocity from zero: how sure the filter is that the point moves.
+  double velocitySignificance() const;
   /// Squared Mahalanobis distance of a position measurement `z` with covariance `r` from the prediction.
   double mahalanobis2(const Eigen::Vector3d& z, const Eigen::Matrix3d& r) const;
   /// Fuses a position measurement (Joseph form, so the covariance stays symmetric positive definite).

@@ -81,6 +81,9 @@ struct TrackingUpdate {
 
 /// Tracks objects over a sequence of pairs. Not thread-safe: one caller, frames in stamp order.
 ///
+/// Motion: a constant-velocity Kalman filter per track; a track unseen in the previous pair whose velocity is not
+/// significantly non-zero (chi-square 95 %) is held in place, its uncertainty growing as if it had moved.
+///
 /// Association: the squared Mahalanobis distance of every compatible (same colour, same target, same shape
 /// unless one is unknown) observation-track pair within the gate; pairs taken greedily, confirmed tracks
 /// before tentative ones, then by increasing distance. Greedy rather than Hungarian: a few objects per pair,
@@ -93,7 +96,7 @@ class Tracker {
   explicit Tracker(const TrackingConfig& config);
 
   TrackingUpdate update(const TrackingFrame& frame);
-  /// Removes every track (ids keep counting up).
+  /// Removes every track and forgets the previous pair's stamp and pose (ids keep counting up).
   void reset();
 
   const std::vector<Track>& tracks() const { return tracks_; }
