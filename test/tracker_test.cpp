@@ -369,3 +369,56 @@ TEST(Tracker, RefusesAnInvalidConfiguration) {
   config.confirm_hits = 0;
   EXPECT_THROW(Tracker{config}, std::invalid_argument);
 }
+
+TEST(Tracker, ADetectionOverTwoTracksIsTheirMergedImage) {
+  TrackingConfig config;
+  config.confirm_hits = 2;
+  config.max_misses = 2;
+  Tracker tracker(config);
+  TrackingFrame f;
+  f.in_view = [](const Eigen::Vector3d&) { return true; };
+  Observation near, far;
+  near.colour = far.colour = "red";
+  near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
+  near.position_m = {-0.3, 0, 2.0};
+  far.position_m = {0.5, 0, 3.5};
+  f.observations = {near, far};
+  std::vector<std::uint32_t> ids;
+  for (int k = 0; k < 3; ++k) {
+    f.stamp_s = 0.1 * k;
+    ids = tracker.update(f).track_ids;
+  }
+  Observation blob = near;  // the detector saw one red region at a depth between them
+  blob.position_m = {0.0, 0, 2.6};
+  blob.size_m = Eigen::Vector3d::Constant(0.9);
+  f.observations = {blob};
+  for (int k = 3; k < 8; ++k) {
+    f.stamp_s = 0.1 * k;
+    const TrackingUpdate u = tracker.update(f);
+    EXPECT_EQ(u.track_ids[0], 0U) << "a merged image starts no track";
+    EXPECT_TRUE(u.dropped.empty()) << "hidden in the merged image, not missed";
+  }
+  ASSERT_EQ(tracker.tracks().size(), 2U);
+  EXPECT_TRUE(tracker.tracks()[0].hidden);
+  f.observations = {near, far};
+  f.stamp_s = 0.8;
+  EXPECT_EQ(tracker.update(f).track_ids, ids);
+}
+
+TEST(Tracker, ADetectionNextToANearerOneIsNotUsed) {
+  Tracker tracker(TrackingConfig{});
+  TrackingFrame f;
+  Observation near, far;
+  near.colour = "red";
+  far.colour = "green";
+  near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
+  near.position_m = {-0.05, 0, 2.0};
+  far.position_m = {0.2, 0, 3.5};  // 0.05 m apart in the image at 2 m: partly hidden in the right camera
+  f.observations = {near, far};
+  const TrackingUpdate u = tracker.update(f);
+  EXPECT_NE(u.track_ids[0], 0U);
+  EXPECT_EQ(u.track_ids[1], 0U);
+  f.observations[1].position_m.x() = 0.6;  // well apart
+  f.stamp_s = 0.1;
+  EXPECT_NE(tracker.update(f).track_ids[1], 0U);
+}

@@ -113,11 +113,10 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     tracks_.clear();
   }
   const double dt = std::isnan(last_stamp_s_) ? 0.0 : std::max(0.0, frame.stamp_s - last_stamp_s_);
-  // A track not seen in the previous pair whose velocity is not significantly non-zero stays where it is: a
-  // moored buoy's velocity noise must not carry it away while the camera looks elsewhere.
+  // A track out of view whose velocity is not significantly non-zero stays where it is: a moored buoy's velocity
+  // noise must not carry it away while the camera looks elsewhere.
   for (Track& t : tracks_) {
-    const bool coasting = t.last_seen_s < last_stamp_s_;
-    if (coasting && t.filter.velocitySignificance() < kMovingChi2) {
+    if (!t.in_view && t.filter.velocitySignificance() < kMovingChi2) {
       t.filter.hold(dt, config_.acceleration_sigma_mps2);
     } else {
       t.filter.predict(dt, config_.acceleration_sigma_mps2);
@@ -144,6 +143,45 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     r[i] = rotation * measurementCovariance(o.position_m) * rotation.transpose();
   }
 
+  // Where the tracks should be in the image. Detections whose depth cannot be trusted update no track and start
+  // none (the tracks under them count as hidden): one whose disc holds the centres of two or more confirmed
+  // tracks of its colour (the detector joins touching regions of one colour), and one next to a nearer detection
+  // (within occlusion_margin_m: in one of the two cameras the nearer object hides part of it).
+  const Eigen::Isometry3d world_to_camera = frame.camera_pose.inverse();
+  std::vector<Eigen::Vector3d> in_camera(tracks_.size());
+  std::vector<bool> visible(tracks_.size());
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    in_camera[k] = world_to_camera * tracks_[k].filter.position();
+    visible[k] = !frame.in_view || frame.in_view(in_camera[k]);
+  }
+  const auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+  };
+  /// [m] at the detection's range, how far apart in the image detection i and a point at `p` of size `size` are.
+  const auto gap = [&](std::size_t i, const Eigen::Vector3d& p, double size) {
+    const Observation& o = frame.observations[i];
+    const double range = o.position_m.norm();
+    return angle(o.position_m, p) * range - (o.size_m.maxCoeff() + size * range / p.norm()) / 2;
+  };
+  const auto covers = [&](std::size_t i, std::size_t k) { return gap(i, in_camera[k], tracks_[k].size_m.maxCoeff()) < 0; };
+  std::vector<bool> usable = valid;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    const Observation& o = frame.observations[i];
+    int under = 0;
+    for (std::size_t k = 0; k < tracks_.size(); ++k) {
+      under += tracks_[k].status == TrackStatus::kConfirmed && visible[k] && tracks_[k].colour == o.colour &&
+               angle(o.position_m, in_camera[k]) * o.position_m.norm() < o.size_m.maxCoeff() / 2;
+    }
+    bool behind = false;
+    for (std::size_t j = 0; j < n; ++j) {
+      const Observation& front = frame.observations[j];
+      behind = behind || (j != i && valid[j] && front.position_m.norm() < o.position_m.norm() &&
+                          gap(j, o.position_m, o.size_m.maxCoeff()) < config_.occlusion_margin_m);
+    }
+    usable[i] = under < 2 && !behind;
+  }
+
   // Gated candidate pairs, then greedy: confirmed tracks first, then by distance.
   struct Candidate {
     bool tentative;
@@ -152,7 +190,7 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
   };
   std::vector<Candidate> candidates;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!valid[i]) continue;
+    if (!usable[i]) continue;
     for (std::size_t k = 0; k < tracks_.size(); ++k) {
       if (!compatible(tracks_[k], frame.observations[i])) continue;
       const double d2 = tracks_[k].filter.mahalanobis2(z[i], r[i]);
@@ -177,6 +215,7 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     if (o.shape != "unknown") t.shape = o.shape;
     t.misses = 0;
     t.in_view = true;
+    t.hidden = false;
     t.last_seen_s = frame.stamp_s;
     if (t.status == TrackStatus::kTentative && static_cast<int>(t.observations) >= config_.confirm_hits) {
       t.status = TrackStatus::kConfirmed;
@@ -184,27 +223,22 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     out.track_ids[c.observation] = t.id;
   }
 
-  // Tracks not found: missed when they should have been seen (in view and not hidden behind an object found in
-  // this pair; tentative ones always); dropped after too many.
-  const Eigen::Isometry3d world_to_camera = frame.camera_pose.inverse();
-  std::vector<Eigen::Vector3d> in_camera(tracks_.size());
-  for (std::size_t k = 0; k < tracks_.size(); ++k) in_camera[k] = world_to_camera * tracks_[k].filter.position();
-  const auto hidden = [&](std::size_t k) {
-    for (std::size_t j = 0; j < tracks_.size(); ++j) {
-      if (!track_taken[j] || in_camera[j].norm() >= in_camera[k].norm()) continue;
-      const double angle = std::acos(std::clamp(in_camera[j].normalized().dot(in_camera[k].normalized()), -1.0, 1.0));
-      if (angle * in_camera[j].norm() < tracks_[j].size_m.maxCoeff()) return true;
-    }
-    return false;
-  };
+  // Tracks not found: missed when they should have been seen (in view, and their image not within a detection's:
+  // occluded, or merged with it by the detector; tentative ones always); dropped after too many.
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    Track& t = tracks_[k];
+    if (track_taken[k]) continue;
+    t.in_view = visible[k];
+    t.hidden = false;
+    for (std::size_t i = 0; i < n && t.in_view; ++i) t.hidden = t.hidden || (valid[i] && covers(i, k));
+  }
   std::vector<Track> kept;
   kept.reserve(tracks_.size() + n);
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     Track& t = tracks_[k];
     if (!track_taken[k]) {
-      t.in_view = (!frame.in_view || frame.in_view(in_camera[k])) && !hidden(k);
       const bool tentative = t.status == TrackStatus::kTentative;
-      if (t.in_view || tentative) ++t.misses;
+      if ((t.in_view && !t.hidden) || tentative) ++t.misses;
       if (t.misses >= (tentative ? config_.tentative_max_misses : config_.max_misses)) {
         out.dropped.push_back(t.id);
         continue;
@@ -216,7 +250,7 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
 
   // Observations no track took start tentative tracks.
   for (std::size_t i = 0; i < n; ++i) {
-    if (!valid[i] || observation_taken[i]) continue;
+    if (!usable[i] || observation_taken[i]) continue;
     const Observation& o = frame.observations[i];
     Track t;
     t.id = next_id_++;

@@ -48,6 +48,7 @@ std::vector<std::string> TrackingConfig::validate() const {
   if (tentative_max_misses < 1) p.push_back("tracking.tentative_max_misses must be >= 1");
   if (max_misses < 1) p.push_back("tracking.max_misses must be >= 1");
   requireNonNegative(p, "tracking.view_margin_px", view_margin_px);
+  requireNonNegative(p, "tracking.occlusion_margin_m", occlusion_margin_m);
   requirePositive(p, "tracking.max_camera_speed_mps", max_camera_speed_mps);
   requirePositive(p, "tracking.max_camera_turn_rate_dps", max_camera_turn_rate_dps);
   requireNonNegative(p, "tracking.max_backwards_s", max_backwards_s);
@@ -88,7 +89,7 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
     const std::string path = "tracking.";
     f.onlyKeys(t, path, {"reject_wrong_size", "match_shape", "range_sigma_fraction", "lateral_sigma_fraction",
                          "min_sigma_m", "acceleration_sigma_mps2", "initial_speed_sigma_mps", "gate_chi2",
-                         "confirm_hits", "tentative_max_misses", "max_misses", "view_margin_px",
+                         "confirm_hits", "tentative_max_misses", "max_misses", "view_margin_px", "occlusion_margin_m",
                          "max_camera_speed_mps", "max_camera_turn_rate_dps", "max_backwards_s"});
     if (t.IsMap()) {
       f.optional(t, "reject_wrong_size", path, c.reject_wrong_size);
@@ -103,6 +104,7 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
       f.optional(t, "tentative_max_misses", path, c.tentative_max_misses);
       f.optional(t, "max_misses", path, c.max_misses);
       f.optional(t, "view_margin_px", path, c.view_margin_px);
+      f.optional(t, "occlusion_margin_m", path, c.occlusion_margin_m);
       f.optional(t, "max_camera_speed_mps", path, c.max_camera_speed_mps);
       f.optional(t, "max_camera_turn_rate_dps", path, c.max_camera_turn_rate_dps);
       f.optional(t, "max_backwards_s", path, c.max_backwards_s);

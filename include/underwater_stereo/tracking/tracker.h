@@ -33,9 +33,10 @@ struct Track {
   ConstantVelocityFilter filter;
   std::uint32_t observations = 0;  ///< detections fused
   int misses = 0;               ///< pairs in a row in which it was expected in view (or tentative) and not found
-  /// Expected in view at the last pair: found, or inside the camera's view and not hidden behind (within one
-  /// size of) a nearer object found in that pair.
-  bool in_view = false;
+  bool in_view = false;         ///< inside the camera's view at the last pair (found or not)
+  /// In view at the last pair but not found, its image within a detection's (occluded, or merged with it by the
+  /// detector): not counted as a miss.
+  bool hidden = false;
   double first_seen_s = 0.0, last_seen_s = 0.0;  ///< [s] stamps of the first and latest fused detections
 };
 
@@ -81,8 +82,8 @@ struct TrackingUpdate {
 
 /// Tracks objects over a sequence of pairs. Not thread-safe: one caller, frames in stamp order.
 ///
-/// Motion: a constant-velocity Kalman filter per track; a track unseen in the previous pair whose velocity is not
-/// significantly non-zero (chi-square 95 %) is held in place, its uncertainty growing as if it had moved.
+/// Motion: a constant-velocity Kalman filter per track; a track out of view whose velocity is not significantly
+/// non-zero (chi-square 95 %) is held in place, its uncertainty growing as if it had moved.
 ///
 /// Association: the squared Mahalanobis distance of every compatible (same colour, same target, same shape
 /// unless one is unknown) observation-track pair within the gate; pairs taken greedily, confirmed tracks

@@ -43,6 +43,10 @@ struct TrackingConfig {
   int tentative_max_misses = 2;  ///< a tentative track missed this many pairs in a row is dropped
   int max_misses = 15;        ///< a confirmed track missed this many pairs in a row while in view is dropped
   double view_margin_px = 40.0;  ///< a track is expected in view when it projects this far inside the image
+  /// [m] a detection whose image comes this close to a nearer detection's (at the nearer one's range) is not
+  /// used: in one of the two cameras the nearer object hides part of it, and its depth is wrong (about the
+  /// stereo baseline)
+  double occlusion_margin_m = 0.1;
 
   // Bad input.
   double max_camera_speed_mps = 3.0;       ///< [m/s] faster camera motion between pairs is a jump (tracks reset)
