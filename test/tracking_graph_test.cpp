@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Tracking in a running graph against the simulator's ground truth: the simulated head (true pose on TF as
 // odom) feeds the detector, which tracks in odom. Checks over `scene_seconds` of scene time: one track id per
-// object (an IDF1-style figure is printed), landmark errors at confirmation and after 20 observations, every
-// object kept as a landmark while the camera looks away (`look_away`), ~get_landmark, ~enable, ~reset_tracks.
+// object (an IDF1-style figure is printed), landmark errors at confirmation and after 20 observations, landmark
+// velocities within 0.05 m/s of the truth, every object kept as a landmark while the camera looks away
+// (`look_away`), ~get_landmark, ~enable, ~reset_tracks.
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <std_srvs/SetBool.h>
@@ -128,6 +129,17 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
   EXPECT_GE(idf1, 0.98);
   EXPECT_GT(matched, 50);
 
+  // Each object's true velocity in odom per second of stamps (the time base the tracker sees).
+  const GroundTruth& first_truth = *listener.truths.begin()->second;
+  const GroundTruth& last_truth = *listener.truths.rbegin()->second;
+  const double truth_span_s = (last_truth.header.stamp - first_truth.header.stamp).toSec();
+  std::vector<Eigen::Vector3d> true_velocity;
+  for (std::size_t i = 0; i < objects_in_scene; ++i) {
+    true_velocity.push_back((vec(last_truth.objects[i].position_fixed) - vec(first_truth.objects[i].position_fixed)) /
+                            truth_span_s);
+  }
+  double worst_velocity_error = 0;
+
   // Landmarks against the truth in odom.
   std::set<std::uint32_t> seen_ids;
   double worst_at_confirmation = 0, worst_after_20 = 0, worst_unseen = 0, worst_reacquired = 0;
@@ -156,6 +168,8 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
       } else if (l.observations >= 20 && transient) {
         worst_reacquired = std::max(worst_reacquired, error);
       } else if (l.observations >= 20) {
+        const Eigen::Vector3d v(l.velocity.x, l.velocity.y, l.velocity.z);
+        worst_velocity_error = std::max(worst_velocity_error, (v - true_velocity[static_cast<std::size_t>(t)]).norm());
         worst_after_20 = std::max(worst_after_20, error);
         ++after_20;
         if (error > 0.01 && ++reported <= 10) {
@@ -173,6 +187,10 @@ TEST(TrackingGraph, IdsAndLandmarksAgainstGroundTruth) {
   std::printf("landmark error / range: worst at confirmation %.2f %%, worst after >= 20 observations %.2f %% (%d, "
               "in the pair that saw it), worst while unseen %.2f %%, worst in the 2 s after 2 s or more unseen %.2f %%\n",
               100 * worst_at_confirmation, 100 * worst_after_20, after_20, 100 * worst_unseen, 100 * worst_reacquired);
+  std::printf("velocity error after >= 20 observations: worst %.4f m/s (true speeds:", worst_velocity_error);
+  for (const Eigen::Vector3d& v : true_velocity) std::printf(" %.3f", v.norm());
+  std::printf(" m/s)\n");
+  EXPECT_LE(worst_velocity_error, 0.05);
   EXPECT_LE(worst_at_confirmation, 0.02);
   EXPECT_LE(worst_after_20, 0.01);
   EXPECT_GT(after_20, 20);
