@@ -76,11 +76,6 @@ TEST(DetectionConversions, ObjectsMarkersCloudAndTransformsCarryEveryObject) {
   EXPECT_NEAR(markers.markers[3].color.b, 1.0F, 1e-6) << "measured colour, brightened";
   EXPECT_EQ(markers.markers[4].type, visualization_msgs::Marker::TEXT_VIEW_FACING);
   EXPECT_EQ(ros_glue::toCloud(r, h).width, 7U);
-  const auto tfs = ros_glue::toTransforms(r, h, "uws/");
-  ASSERT_EQ(tfs.size(), 2U);
-  EXPECT_EQ(tfs[1].child_frame_id, "uws/object_1");
-  EXPECT_EQ(tfs[1].header.frame_id, "stereo_left_optical_frame");
-  EXPECT_NEAR(tfs[1].transform.translation.z, 3.0, 1e-9);
 }
 
 TEST(DetectionConversions, AnnotatedFrameKeepsTheSizeAndDrawsOnIt) {

@@ -9,9 +9,11 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include <algorithm>
 #include <map>
 #include <mutex>
 
@@ -53,7 +55,9 @@ struct Listener {
   void onDiagnostics(const diagnostic_msgs::DiagnosticArrayConstPtr& m) {
     std::lock_guard<std::mutex> lock(mutex);
     for (const auto& s : m->status) {
-      if (s.name.find("detector") != std::string::npos) diagnostics.push_back(s);
+      if (s.name.find("detector") != std::string::npos && s.name.find("tracking") == std::string::npos) {
+        diagnostics.push_back(s);
+      }
     }
   }
   std::mutex mutex;
@@ -114,12 +118,14 @@ TEST(DetectorGraph, Live) {
     EXPECT_EQ(found->quality.status, ImageQuality::OK);
     // DELETEALL, then a shape and a label per object.
     EXPECT_EQ(markers->second->markers.size(), 1 + 2 * found->objects.size());
-    for (std::size_t i = 0; i < found->objects.size(); ++i) {
-      const std::string frame = "object_" + std::to_string(i);
+    // A TF frame per confirmed track (3 observations), named by its target or colour, at its filtered position.
+    for (const DetectedObject& o : found->objects) {
+      if (o.observations < 3) continue;
+      const std::string frame = (o.label.empty() ? o.colour : o.label) + "_" + std::to_string(o.track_id);
       EXPECT_TRUE(tf_buffer.canTransform("stereo_left_optical_frame", frame, stamp, ros::Duration(1.0))) << frame;
       if (tf_buffer.canTransform("stereo_left_optical_frame", frame, stamp)) {
         const auto t = tf_buffer.lookupTransform("stereo_left_optical_frame", frame, stamp);
-        EXPECT_NEAR(t.transform.translation.z, found->objects[i].position.z, 1e-6) << frame;
+        EXPECT_NEAR(t.transform.translation.z, o.position.z, 0.05) << frame;
       }
     }
   }
@@ -352,4 +358,92 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "detector_graph_test");
   return RUN_ALL_TESTS();
+}
+
+// Tracking's bad input, with fixed_frame odom (test/tracking_bad_input.test): no transform yet (tracked in the
+// stereo frame), then one (tracks move to odom), a stamp going backwards, an odometry jump, a transform that
+// stops arriving. Each is said by the tracking diagnostic; nothing crashes.
+TEST_F(HandFedDetector, TrackingReportsMissingTransformsBackwardStampsAndJumps) {
+  std::mutex mutex;
+  std::map<ros::Time, DetectedObjectArrayConstPtr> landmarks;
+  std::vector<std::string> problems;
+  ros::Subscriber landmarks_sub = nh.subscribe<DetectedObjectArray>(
+      "/stereo/detector/landmarks", 50, [&](const DetectedObjectArrayConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        landmarks[m->header.stamp] = m;
+      });
+  ros::Subscriber diagnostics_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 50, [&](const diagnostic_msgs::DiagnosticArrayConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& s : m->status) {
+          if (s.name.find("tracking") != std::string::npos) {
+            problems.push_back(s.message + " | " + diagnosticValue(s, "last tracking problem"));
+          }
+        }
+      });
+  tf2_ros::TransformBroadcaster broadcaster;
+  const auto send = [&](ros::Time stamp, double camera_x, bool with_tf) -> DetectedObjectArrayConstPtr {
+    if (with_tf) {
+      geometry_msgs::TransformStamped t;
+      t.header.stamp = stamp;
+      t.header.frame_id = "odom";
+      t.child_frame_id = "stereo_left_optical_frame";
+      t.transform.translation.x = camera_x;
+      t.transform.rotation.w = 1.0;
+      broadcaster.sendTransform(t);
+      ros::WallDuration(0.1).sleep();
+    }
+    pub.send(left, left_info, right, right_info, stamp);
+    DetectedObjectArrayConstPtr found;
+    waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(mutex);
+          const auto l = landmarks.find(stamp);
+          if (l == landmarks.end()) return false;
+          found = l->second;
+          return true;
+        },
+        20.0);
+    return found;
+  };
+  const auto said = [&](const std::string& text) {
+    return waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(mutex);
+          return std::any_of(problems.begin(), problems.end(),
+                             [&](const std::string& p) { return p.find(text) != std::string::npos; });
+        },
+        10.0);
+  };
+
+  ros::Time stamp(3000.0);
+  DetectedObjectArrayConstPtr l;
+  for (int k = 0; k < 3; ++k) l = send(stamp += ros::Duration(0.2), 0.0, false);
+  ASSERT_TRUE(l);
+  EXPECT_EQ(l->header.frame_id, "stereo_left_optical_frame") << "no transform yet: tracked in the stereo frame";
+  EXPECT_EQ(l->objects.size(), 2U);
+  EXPECT_TRUE(said("no transform from odom yet"));
+
+  for (int k = 0; k < 3; ++k) l = send(stamp += ros::Duration(0.2), 0.5, true);
+  ASSERT_TRUE(l);
+  EXPECT_EQ(l->header.frame_id, "odom");
+  ASSERT_EQ(l->objects.size(), 2U);
+  const std::uint32_t first_odom_id = std::min(l->objects[0].track_id, l->objects[1].track_id);
+  EXPECT_GT(first_odom_id, 2U) << "tracks restarted in odom with new ids";
+  EXPECT_NEAR(std::min(l->objects[0].position.x, l->objects[1].position.x), 0.5 - 0.4, 0.05) << "the red buoy";
+
+  const ros::Time latest = stamp;
+  l = send(stamp - ros::Duration(0.1), 0.5, true);  // late
+  EXPECT_TRUE(said("stamp went backwards"));
+
+  l = send(stamp = latest + ros::Duration(0.2), 5.5, true);  // odometry jumped 5 m in 0.2 s
+  EXPECT_TRUE(said("camera pose jumped"));
+  ASSERT_TRUE(l);
+  for (const auto& o : l->objects) EXPECT_GT(o.track_id, first_odom_id + 1) << "tracks reset";
+
+  l = send(stamp += ros::Duration(5.0), 5.5, false);  // the transform no longer arrives
+  EXPECT_TRUE(said("no transform odom <- stereo_left_optical_frame"));
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  ASSERT_EQ(listener.objects.count(stamp), 1U) << "the pair is still published";
+  for (const auto& o : listener.objects[stamp]->objects) EXPECT_EQ(o.track_id, 0U);
 }

@@ -138,6 +138,21 @@ TEST(Renderer, GroundTruthFollowsCameraAndObjectMotion) {
   EXPECT_GT(gt.visible_pixels, 1000);
 }
 
+TEST(Renderer, CameraTurnsAwayAndBack) {
+  Scene scene = smallScene(sphere("ball", {0, 0, 3}, 0.3));
+  scene.camera_motion.yaw_rate_dps = 1.0;
+  scene.camera_motion.yaw_amplitude_deg = 150.0;
+  scene.camera_motion.yaw_period_s = 40.0;
+  const Renderer renderer(scene);
+  for (const double t : {0.0, 10.0, 20.0, 40.0}) {
+    const RenderedPair pair = renderer.render(t, 0);
+    const double expected_deg = t + 150.0 * (1 - std::cos(2 * M_PI * t / 40.0)) / 2;
+    const Eigen::AngleAxisd yaw(pair.camera_pose.linear());
+    EXPECT_NEAR(yaw.angle() * 180.0 / M_PI, std::abs(expected_deg), 1e-9) << "t=" << t;
+    EXPECT_EQ(pair.ground_truth[0].visible_pixels > 0, t == 0.0) << "t=" << t << ": yaw " << expected_deg << " deg";
+  }
+}
+
 TEST(Renderer, NearerObjectOccludesFartherOne) {
   Scene alone = smallScene(sphere("back", {0, 0, 3}, 0.4));
   const int visible_alone = Renderer(alone).render(0, 0).ground_truth[0].visible_pixels;

@@ -18,9 +18,9 @@
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/package.h>
 #include <ros/ros.h>
+#include <std_srvs/SetBool.h>
 #include <tf2/LinearMath/Quaternion.h>
 #include <tf2_ros/static_transform_broadcaster.h>
-#include <tf2_ros/transform_broadcaster.h>
 
 #include <boost/bind/bind.hpp>
 
@@ -40,6 +40,7 @@
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
+#include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
 #include "underwater_stereo/ros_glue/stereo_input.h"
 
@@ -131,8 +132,6 @@ class DetectorNodelet : public nodelet::Nodelet {
     params.optional("queue_size", queue_size);
     params.optional("worker_threads", worker_threads);
     params.optional("max_waiting_pairs", max_waiting_pairs);
-    params.optional("object_frame_prefix", frame_prefix_);
-    params.optional("publish_tf", publish_tf_);
     params.optional("mount_frame", mount_frame);
     params.optional("mount_xyz", mount_xyz);
     params.optional("mount_rpy", mount_rpy);
@@ -156,6 +155,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     } catch (const std::invalid_argument& e) {
       problems.push_back(pnh.resolveName("config_file") + " (" + config_file + "): " + e.what());
     }
+    tracking_ = std::make_unique<ros_glue::ObjectTracking>(pnh, config_.stereo, problems);
     if (!problems.empty()) {
       const std::string message = joinProblems("DetectorNodelet: invalid configuration, not started", problems);
       NODELET_FATAL_STREAM(message);
@@ -169,6 +169,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     image_pub_ = private_it.advertise("image", 2);
     snapshot_pub_ = private_it.advertise("snapshot", 2);
     if (!mount_frame.empty()) publishMount(mount_frame, mount_xyz, mount_rpy);
+    tracking_->start(pnh);
+    enable_service_ = pnh.advertiseService("enable", &DetectorNodelet::onEnable, this);
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<DetectorTuningConfig>>(reconfigure_mutex_, pnh);
     DetectorTuningConfig start;
@@ -179,6 +181,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     diagnostics_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh, getName());
     diagnostics_->setHardwareID("underwater_stereo detector");
     diagnostics_->add("detector", this, &DetectorNodelet::diagnose);
+    diagnostics_->add("tracking", tracking_.get(), &ros_glue::ObjectTracking::diagnose);
     diagnostics_timer_ = nh.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
       diagnostics_->force_update();
     });
@@ -193,11 +196,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     for (int i = 0; i < worker_threads; ++i) workers_.emplace_back([this, i] { work(i); });
     left_topic_ = nh.resolveName("left/image_raw");
     right_topic_ = nh.resolveName("right/image_raw");
-    image_transport::ImageTransport it(nh);
-    left_image_sub_.subscribe(it, "left/image_raw", queue_size);
-    right_image_sub_.subscribe(it, "right/image_raw", queue_size);
-    left_info_sub_.subscribe(nh, "left/camera_info", queue_size);
-    right_info_sub_.subscribe(nh, "right/camera_info", queue_size);
+    queue_size_ = queue_size;
+    subscribe();
     if (approximate) {
       approximate_sync_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(
           ApproximatePolicy(queue_size), left_image_sub_, left_info_sub_, right_image_sub_, right_info_sub_);
@@ -230,6 +230,36 @@ class DetectorNodelet : public nodelet::Nodelet {
     t.transform.rotation.z = q.z();
     t.transform.rotation.w = q.w();
     static_broadcaster_.sendTransform(t);
+  }
+
+  void subscribe() {
+    ros::NodeHandle& nh = getNodeHandle();
+    image_transport::ImageTransport it(nh);
+    left_image_sub_.subscribe(it, "left/image_raw", queue_size_);
+    right_image_sub_.subscribe(it, "right/image_raw", queue_size_);
+    left_info_sub_.subscribe(nh, "left/camera_info", queue_size_);
+    right_info_sub_.subscribe(nh, "right/camera_info", queue_size_);
+  }
+
+  /// ~enable false: unsubscribes from the images (no pair is received or processed; tracks are kept);
+  /// true: subscribes again.
+  bool onEnable(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+    std::lock_guard<std::mutex> lock(enable_mutex_);
+    if (req.data != enabled_) {
+      if (req.data) {
+        subscribe();
+      } else {
+        left_image_sub_.unsubscribe();
+        right_image_sub_.unsubscribe();
+        left_info_sub_.unsubscribe();
+        right_info_sub_.unsubscribe();
+      }
+      enabled_ = req.data;
+    }
+    res.success = true;
+    res.message = enabled_ ? "detecting" : "paused: not subscribed to the images";
+    NODELET_INFO_STREAM("DetectorNodelet: " << res.message);
+    return true;
   }
 
   void onReconfigure(const DetectorTuningConfig& r) {
@@ -362,13 +392,10 @@ class DetectorNodelet : public nodelet::Nodelet {
     return out;
   }
 
-  void publish(const Processed& done) {
-    const DetectionResult& result = done.result;
+  void publish(Processed& done) {
     const std_msgs::Header& header = done.pair.left->header;
-    objects_pub_.publish(ros_glue::toObjectsMsg(result, header));
-    if (publish_tf_ && !result.objects.empty()) {
-      broadcaster_.sendTransform(ros_glue::toTransforms(result, header, frame_prefix_));
-    }
+    objects_pub_.publish(tracking_->track(done.result, header, done.input.calibration.left));  // drops rejected objects
+    const DetectionResult& result = done.result;
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));
     const bool want_snapshot = snapshot_pub_.getNumSubscribers() > 0 && !result.objects.empty();
@@ -396,7 +423,9 @@ class DetectorNodelet : public nodelet::Nodelet {
     last_processed_ = processed;
     std::lock_guard<std::mutex> lock(stats_mutex_);
     const bool recent_error = !last_error_time_.isZero() && (now - last_error_time_).toSec() < kErrorHoldS;
-    if (recent_error) {
+    if (!enabled_) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "paused (~enable false): no pairs received or processed");
+    } else if (recent_error) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "bad input: " + last_error_);
     } else if (received == 0) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no stereo pairs received yet");
@@ -423,9 +452,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Configuration.
   DetectorConfig config_;
   double max_skew_s_ = 0.005;
-  std::string frame_prefix_;
   std::string stereo_frame_ = "stereo_left_optical_frame";
-  bool publish_tf_ = true;
+  int queue_size_ = 5;
   std::string left_topic_, right_topic_;
 
   // Input.
@@ -459,8 +487,11 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Output.
   ros::Publisher objects_pub_, markers_pub_, cloud_pub_;
   image_transport::Publisher image_pub_, snapshot_pub_;
-  tf2_ros::TransformBroadcaster broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
+  std::unique_ptr<ros_glue::ObjectTracking> tracking_;  ///< targets, tracks, landmarks (publish() calls it in order)
+  ros::ServiceServer enable_service_;
+  std::mutex enable_mutex_;
+  std::atomic<bool> enabled_{true};
   boost::recursive_mutex reconfigure_mutex_;
   std::unique_ptr<dynamic_reconfigure::Server<DetectorTuningConfig>> reconfigure_;
 

@@ -9,6 +9,7 @@
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
 #include <ros/ros.h>
+#include <tf2_ros/transform_broadcaster.h>
 
 #include <memory>
 #include <stdexcept>
@@ -37,6 +38,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     params.optional("source", source);
     params.optional("frame_id", frame_id_);
     if (frame_id_.empty()) problems.push_back(pnh.resolveName("frame_id") + ": empty");
+    params.optional("fixed_frame", fixed_frame_);
     if (source == "sim") {
       initSim(params, problems);
     } else if (source == "aravis") {
@@ -216,12 +218,20 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     }
     left_info->header = header;
     right_info->header = header;
-    if (ground_truth_pub_) ground_truth_pub_.publish(ros_glue::toGroundTruthMsg(frame.ground_truth, header));
+    if (frame.camera_pose_world && !fixed_frame_.empty()) {  // the simulated head's true pose, before its images
+      broadcaster_.sendTransform(ros_glue::toCameraTransform(*frame.camera_pose_world, header, fixed_frame_));
+    }
+    if (ground_truth_pub_) {
+      ground_truth_pub_.publish(ros_glue::toGroundTruthMsg(
+          frame.ground_truth, header, frame.camera_pose_world.value_or(Eigen::Isometry3d::Identity()), fixed_frame_));
+    }
     left_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.left).toImageMsg(), left_info);
     right_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.right).toImageMsg(), right_info);
   }
 
   std::string frame_id_ = "stereo_left_optical_frame";
+  std::string fixed_frame_ = "odom";  ///< sim: the scene's world frame, parent of frame_id_ on TF ("" = no TF)
+  tf2_ros::TransformBroadcaster broadcaster_;
   StereoCalibration calibration_;
   image_transport::CameraPublisher left_pub_;
   image_transport::CameraPublisher right_pub_;

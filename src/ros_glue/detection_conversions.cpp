@@ -13,29 +13,6 @@ namespace underwater_stereo {
 namespace ros_glue {
 namespace {
 
-/// The colour to draw an object in: its designated colour when the class has a common colour name (the
-/// measured colour carries the water's cast), else its measured colour brightened.
-std_msgs::ColorRGBA displayColour(const Detection& d) {
-  static const std::map<std::string, std::array<float, 3>> kNamed{
-      {"red", {1.0F, 0.1F, 0.1F}},    {"orange", {1.0F, 0.55F, 0.0F}}, {"yellow", {1.0F, 0.9F, 0.1F}},
-      {"green", {0.1F, 0.85F, 0.2F}}, {"blue", {0.1F, 0.3F, 1.0F}},    {"purple", {0.6F, 0.2F, 0.8F}},
-      {"white", {1.0F, 1.0F, 1.0F}},  {"black", {0.2F, 0.2F, 0.2F}}};
-  std_msgs::ColorRGBA c;
-  c.a = 0.8F;
-  const auto named = kNamed.find(d.colour);
-  if (named != kNamed.end()) {
-    c.r = named->second[0];
-    c.g = named->second[1];
-    c.b = named->second[2];
-    return c;
-  }
-  const double peak = std::max({d.measured_bgr[0], d.measured_bgr[1], d.measured_bgr[2], 1.0});
-  c.r = static_cast<float>(d.measured_bgr[2] / peak);
-  c.g = static_cast<float>(d.measured_bgr[1] / peak);
-  c.b = static_cast<float>(d.measured_bgr[0] / peak);
-  return c;
-}
-
 geometry_msgs::Quaternion toMsg(const Eigen::Quaterniond& q) {
   geometry_msgs::Quaternion m;
   m.x = q.x();
@@ -46,6 +23,27 @@ geometry_msgs::Quaternion toMsg(const Eigen::Quaterniond& q) {
 }
 
 }  // namespace
+
+std_msgs::ColorRGBA displayColour(const std::string& colour, const cv::Scalar& measured_bgr) {
+  static const std::map<std::string, std::array<float, 3>> kNamed{
+      {"red", {1.0F, 0.1F, 0.1F}},    {"orange", {1.0F, 0.55F, 0.0F}}, {"yellow", {1.0F, 0.9F, 0.1F}},
+      {"green", {0.1F, 0.85F, 0.2F}}, {"blue", {0.1F, 0.3F, 1.0F}},    {"purple", {0.6F, 0.2F, 0.8F}},
+      {"white", {1.0F, 1.0F, 1.0F}},  {"black", {0.2F, 0.2F, 0.2F}}};
+  std_msgs::ColorRGBA c;
+  c.a = 0.8F;
+  const auto named = kNamed.find(colour);
+  if (named != kNamed.end()) {
+    c.r = named->second[0];
+    c.g = named->second[1];
+    c.b = named->second[2];
+    return c;
+  }
+  const double peak = std::max({measured_bgr[0], measured_bgr[1], measured_bgr[2], 1.0});
+  c.r = static_cast<float>(measured_bgr[2] / peak);
+  c.g = static_cast<float>(measured_bgr[1] / peak);
+  c.b = static_cast<float>(measured_bgr[0] / peak);
+  return c;
+}
 
 ImageQuality toQualityMsg(const QualityReport& q) {
   ImageQuality m;
@@ -113,7 +111,7 @@ visualization_msgs::MarkerArray toMarkers(const DetectionResult& result, const s
     shape.scale.x = std::max(0.01, d.size_m.x());
     shape.scale.y = std::max(0.01, d.size_m.y());
     shape.scale.z = std::max(0.01, d.size_m.z());
-    shape.color = displayColour(d);
+    shape.color = displayColour(d.colour, d.measured_bgr);
     if (d.shape == "sphere") {
       shape.type = visualization_msgs::Marker::SPHERE;
     } else if (d.shape == "cylinder") {
@@ -152,7 +150,7 @@ sensor_msgs::PointCloud2 toCloud(const DetectionResult& result, const std_msgs::
   sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
   sensor_msgs::PointCloud2Iterator<std::uint8_t> rgb(cloud, "rgb");
   for (const Detection& d : result.objects) {
-    const std_msgs::ColorRGBA c = displayColour(d);
+    const std_msgs::ColorRGBA c = displayColour(d.colour, d.measured_bgr);
     for (const Eigen::Vector3f& p : d.points) {
       *x = p.x();
       *y = p.y();
@@ -167,23 +165,6 @@ sensor_msgs::PointCloud2 toCloud(const DetectionResult& result, const std_msgs::
     }
   }
   return cloud;
-}
-
-std::vector<geometry_msgs::TransformStamped> toTransforms(const DetectionResult& result, const std_msgs::Header& header,
-                                                          const std::string& prefix) {
-  std::vector<geometry_msgs::TransformStamped> out;
-  for (std::size_t i = 0; i < result.objects.size(); ++i) {
-    const Detection& d = result.objects[i];
-    geometry_msgs::TransformStamped t;
-    t.header = header;
-    t.child_frame_id = prefix + "object_" + std::to_string(i);
-    t.transform.translation.x = d.position_m.x();
-    t.transform.translation.y = d.position_m.y();
-    t.transform.translation.z = d.position_m.z();
-    t.transform.rotation = toMsg(d.orientation);
-    out.push_back(t);
-  }
-  return out;
 }
 
 }  // namespace ros_glue

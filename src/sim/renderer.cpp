@@ -48,7 +48,8 @@ Eigen::Vector3d displacement(const Motion& m, double t) {
 /// Pose of the left optical frame in the world at time t.
 Eigen::Isometry3d cameraPose(const Motion& m, double t) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(m.yaw_rate_dps * M_PI / 180.0 * t, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const double yaw_deg = m.yaw_rate_dps * t + m.yaw_amplitude_deg * (1.0 - std::cos(2.0 * M_PI * t / m.yaw_period_s)) / 2;
+  pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
   pose.translation() = displacement(m, t);
   return pose;
 }
@@ -259,6 +260,7 @@ RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
   std::vector<PlacedObject> placed;
   RenderedPair out;
   out.time_s = time_s;
+  out.camera_pose = left_pose;
   out.encoding = scene_.sensor.encoding;
   for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
     const SceneObject& o = scene_.objects[i];

@@ -14,9 +14,12 @@ namespace {
 
 void parseMotion(YamlFields& f, const YAML::Node& node, const std::string& path, Motion& m) {
   if (!node) return;
-  f.onlyKeys(node, path, {"velocity_mps", "yaw_rate_dps", "bob_amplitude_m", "bob_period_s"});
+  f.onlyKeys(node, path,
+             {"velocity_mps", "yaw_rate_dps", "yaw_amplitude_deg", "yaw_period_s", "bob_amplitude_m", "bob_period_s"});
   f.optionalVector3(node, "velocity_mps", path, m.velocity_mps);
   f.optional(node, "yaw_rate_dps", path, m.yaw_rate_dps);
+  f.optional(node, "yaw_amplitude_deg", path, m.yaw_amplitude_deg);
+  f.optional(node, "yaw_period_s", path, m.yaw_period_s);
   f.optional(node, "bob_amplitude_m", path, m.bob_amplitude_m);
   f.optional(node, "bob_period_s", path, m.bob_period_s);
 }
@@ -162,6 +165,8 @@ std::vector<std::string> Scene::validate() const {
     }
   }
   requireRange(p, "camera_motion.bob_period_s", camera_motion.bob_period_s, 0.1, 1e6);
+  requireRange(p, "camera_motion.yaw_amplitude_deg", camera_motion.yaw_amplitude_deg, -360, 360);
+  requireRange(p, "camera_motion.yaw_period_s", camera_motion.yaw_period_s, 0.1, 1e6);
   return p;
 }
 

@@ -41,6 +41,7 @@ StereoFrame SimStereoSource::frame(std::uint64_t sequence) {
     out.right = pair.right;
     out.encoding = pair.encoding;
     out.ground_truth = std::move(pair.ground_truth);
+    out.camera_pose_world = pair.camera_pose;
     if (config_.loop_frames > 0) cache_[scene_index] = out;
   }
   out.sequence = sequence;

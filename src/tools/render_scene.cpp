@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <rosbag/bag.h>
+#include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
 #include <chrono>
@@ -186,7 +187,11 @@ int main(int argc, char** argv) {
         info.header = header;
         bag.write(prefix + "/left/image_raw", header.stamp, cv_bridge::CvImage(header, pair.encoding, pair.left).toImageMsg());
         bag.write(prefix + "/left/camera_info", header.stamp, info);
-        bag.write(prefix + "/ground_truth", header.stamp, ros_glue::toGroundTruthMsg(pair.ground_truth, header));
+        bag.write(prefix + "/ground_truth", header.stamp,
+                  ros_glue::toGroundTruthMsg(pair.ground_truth, header, pair.camera_pose, "odom"));
+        tf2_msgs::TFMessage tf;
+        tf.transforms.push_back(ros_glue::toCameraTransform(pair.camera_pose, header, "odom"));
+        bag.write("/tf", header.stamp, tf);
         info = ros_glue::toCameraInfo(calib.right);
         info.header = header;
         bag.write(prefix + "/right/image_raw", header.stamp, cv_bridge::CvImage(header, pair.encoding, pair.right).toImageMsg());

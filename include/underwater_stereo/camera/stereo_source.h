@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct StereoFrame {
   std::int64_t capture_time_ns = 0;
   /// Truth about the scene; filled by the simulated source only (empty from real cameras).
   std::vector<sim::GroundTruthObject> ground_truth;
+  /// The simulated source only: the left optical frame's true pose in the scene's world frame.
+  std::optional<Eigen::Isometry3d> camera_pose_world;
 };
 
 /// A source of stereo pairs that pushes them to a callback from its own thread.

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// @file DetectionResult -> ROS messages: objects, markers, the objects' point cloud and their TF frames.
+/// @file DetectionResult -> ROS messages: objects, markers and the objects' point cloud.
 
-#include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_msgs/Header.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -30,9 +29,10 @@ visualization_msgs::MarkerArray toMarkers(const DetectionResult& result, const s
 /// The objects' 3D points: x, y, z (float32) and rgb (the object's display colour, packed as rviz reads it).
 sensor_msgs::PointCloud2 toCloud(const DetectionResult& result, const std_msgs::Header& header);
 
-/// One transform per object, `<prefix>object_<id>`, child of header.frame_id.
-std::vector<geometry_msgs::TransformStamped> toTransforms(const DetectionResult& result, const std_msgs::Header& header,
-                                                          const std::string& prefix);
+/// The colour to draw an object of designated colour `colour` in: the colour's common name (red, orange,
+/// yellow, green, blue, purple, white, black; the measured colour carries the water's cast), else the measured
+/// colour (B, G, R 0-255) brightened.
+std_msgs::ColorRGBA displayColour(const std::string& colour, const cv::Scalar& measured_bgr);
 
 }  // namespace ros_glue
 }  // namespace underwater_stereo

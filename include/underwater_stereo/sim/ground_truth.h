@@ -10,6 +10,14 @@
 namespace underwater_stereo {
 namespace sim {
 
+/// The scene's world frame (the left optical frame at time 0: x right, y down, z forward) in a REP-103 fixed
+/// frame with the same origin (x forward, y left, z up), which the simulated head publishes as odom.
+inline Eigen::Isometry3d fixedFromWorld() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  return t;
+}
+
 struct GroundTruthObject {
   std::string name;
   std::string shape;                     ///< "sphere", "cylinder", "box" or "plane"

@@ -19,6 +19,7 @@ struct RenderedPair {
   cv::Mat right;
   std::string encoding;
   double time_s = 0.0;          ///< scene time the pair shows
+  Eigen::Isometry3d camera_pose = Eigen::Isometry3d::Identity();  ///< the left optical frame in the world frame
   std::vector<GroundTruthObject> ground_truth;  ///< one per scene object, in scene order
   cv::Mat left_labels;          ///< CV_16UC1: 1 + index of the object each left pixel sees, 0 for water/seabed
 };

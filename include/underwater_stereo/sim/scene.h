@@ -78,6 +78,10 @@ struct SensorConfig {
 struct Motion {
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();  ///< [m/s] in the world frame
   double yaw_rate_dps = 0.0;          ///< [deg/s] rotation about the world y axis (down)
+  /// [deg] a turn away and back on top of yaw_rate_dps: yaw(t) = yaw_rate * t + A * (1 - cos(2 pi t / T)) / 2,
+  /// T = yaw_period_s (the camera only)
+  double yaw_amplitude_deg = 0.0;
+  double yaw_period_s = 40.0;         ///< [s]
   double bob_amplitude_m = 0.0;       ///< [m] vertical oscillation
   double bob_period_s = 4.0;          ///< [s]
 };
