@@ -300,7 +300,7 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
        [](auto&, auto& li, auto&, auto&) { li.K.fill(0.0); li.P.fill(0.0); }},
       {"NaN camera_info", "camera_info",
        [](auto&, auto&, auto&, auto& ri) { ri.P[0] = std::numeric_limits<double>::quiet_NaN(); }},
-      {"empty image", "empty",
+      {"empty image", "image size 0x0 is outside",
        [](auto& l, auto&, auto&, auto&) {
          l.data.clear();
          l.width = l.height = 0;
