@@ -126,6 +126,8 @@ TEST(StereoInputChecks, ImplausibleCalibrationsAreRefusedNamingTheFieldAndRange)
       {[](Input& in) { in.left_info.width = 97; }, "image is 96x64 but its camera_info is 97x64"},
       {[](Input& in) { in.left_info.P[3] = 4; }, "left P[3] must be 0"},
       {[](Input& in) { in.right_info.P[0] = in.right_info.P[5] = 130; }, "different rectified cameras"},
+      {[](Input& in) { in.left_info.binning_x = 2; }, "/s/left/camera_info: binning 2x0"},
+      {[](Input& in) { in.right_info.roi.width = 50; in.right_info.roi.height = 40; }, "roi 50x40+0+0: only full-resolution"},
   };
   for (const auto& [spoil, expected] : cases) {
     const std::string m = refusal(spoil);

@@ -64,6 +64,18 @@ CameraCalibration toCalibration(const sensor_msgs::CameraInfo& info, const senso
     throw std::invalid_argument(topic + ": image is " + sizeOf(image.width, image.height) + " but its camera_info is " +
                                 sizeOf(info.width, info.height));
   }
+  // Binning or a region of interest would need the calibration scaled and shifted; not supported, so refused
+  // rather than giving wrong positions.
+  const auto& roi = info.roi;
+  const bool full_roi = (roi.width == 0 && roi.height == 0 && roi.x_offset == 0 && roi.y_offset == 0) ||
+                        (roi.x_offset == 0 && roi.y_offset == 0 && roi.width == info.width && roi.height == info.height);
+  if (info.binning_x > 1 || info.binning_y > 1 || !full_roi) {
+    throw std::invalid_argument(topicOfInfo(topic) + ": binning " + std::to_string(info.binning_x) + "x" +
+                                std::to_string(info.binning_y) + ", roi " + std::to_string(roi.width) + "x" +
+                                std::to_string(roi.height) + "+" + std::to_string(roi.x_offset) + "+" +
+                                std::to_string(roi.y_offset) +
+                                ": only full-resolution images are supported (binning 0 or 1, roi empty or the whole image)");
+  }
   try {
     return fromCameraInfo(info);
   } catch (const std::invalid_argument& e) {

@@ -31,7 +31,8 @@ bool acceptedEncoding(const std::string& encoding);
 /// @throw std::invalid_argument naming the topic, the field and its allowed range: an image size outside
 /// minImageSidePx()..kMaxImageSidePx, an encoding not accepted, a step shorter than a row, data not step x
 /// height bytes, left/right sizes that differ, an image whose size is not its camera_info's, an unsupported
-/// distortion model, a camera_info that CameraCalibration::validate() refuses, stamps further apart than
+/// distortion model, binning or a region of interest (not supported), a camera_info that
+/// CameraCalibration::validate() refuses, stamps further apart than
 /// max_skew_s.
 StereoInput toStereoInput(const sensor_msgs::Image& left, const sensor_msgs::CameraInfo& left_info,
                           const sensor_msgs::Image& right, const sensor_msgs::CameraInfo& right_info,
