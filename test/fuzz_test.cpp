@@ -20,7 +20,7 @@
 #include <map>
 #include <random>
 
-#include "underwater_stereo/detection/calibration_yaml.h"
+#include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/image_file.h"

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <functional>
 
-#include "underwater_stereo/detection/calibration_yaml.h"
+#include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/image_file.h"

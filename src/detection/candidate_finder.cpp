@@ -18,7 +18,9 @@ constexpr double kMinClassShare = 0.05;
 /// Window over which the pixels of a region holding two colour groups are given to one of them.
 constexpr int kGroupWindowPx = 11;
 
-/// Fisher ratio of an Otsu split of the grey levels under `mask` (eroded: edges mix object and water).
+}  // namespace
+
+// The mask is eroded: edges mix object and water.
 double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask) {
   cv::Mat grey, inner;
   cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
@@ -45,6 +47,8 @@ double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask) {
   const double var = sq[0] / n[0] - m0 * m0 + sq[1] / n[1] - m1 * m1;
   return (m1 - m0) * (m1 - m0) / std::max(var, 1.0);
 }
+
+namespace {
 
 /// Fills `candidate` from its contour and the colour mask it belongs to.
 bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Point> contour, int colour_index,
@@ -222,6 +226,9 @@ std::vector<Candidate> findCandidates(const cv::Mat& bgr, const ColourMasks& mas
     if (m.size() != bgr.size() || m.type() != CV_8UC1) {
       throw std::invalid_argument("findCandidates: each colour mask must be CV_8UC1 of the image's size");
     }
+  }
+  if (config.source == ContourSource::kLearned) {
+    throw std::invalid_argument("findCandidates: candidates.source learned is searched by findLearnedCandidates");
   }
   std::vector<Candidate> found;
   if (config.source == ContourSource::kColourMask) {

@@ -55,6 +55,10 @@ std::vector<std::string> ColourMaskConfig::validate() const {
     if (c.saturation_min > c.saturation_max) p.push_back(n + ".saturation: min > max");
     if (c.value_min > c.value_max) p.push_back(n + ".value: min > max");
     if (!(c.min_contrast >= 0 && c.min_contrast <= 10)) p.push_back(n + ".min_contrast must be in [0, 10]");
+    if (!(c.min_size_m >= 0 && c.max_size_m >= 0 && (c.max_size_m == 0 || c.max_size_m > c.min_size_m) &&
+          c.max_size_m <= 100)) {
+      p.push_back(n + ".size_m: need 0 <= min < max <= 100 (0 = no limit)");
+    }
   }
   if (!(saturation_floor_factor >= 0 && saturation_floor_factor <= 10)) {
     p.push_back("mask.saturation_floor_factor must be in [0, 10]");

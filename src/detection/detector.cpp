@@ -34,7 +34,10 @@ struct FrontEnd {
   cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
   cv::Scalar gains{1.0, 1.0, 1.0};  ///< the grey-world gains it was balanced with (1: grey_world off)
   int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
+  cv::Mat water;                     ///< learned source: the searched image's water colour
+  ContrastStats contrast_stats;      ///< learned source: its spread of contrast
   std::vector<Candidate> candidates;
+  std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
 };
 
 /// BGR8 of `region` of the frame scaled by `scale`; at 0.5 straight from the Bayer cells, no demosaicing.
@@ -46,6 +49,11 @@ cv::Mat scaledDown(const RawFrame& frame, const cv::Rect& region, double scale) 
   return small;
 }
 
+cv::Rect scaledRect(const cv::Rect& r, double k) {
+  return cv::Rect(static_cast<int>(std::lround(r.x * k)), static_cast<int>(std::lround(r.y * k)),
+                  static_cast<int>(std::lround(r.width * k)), static_cast<int>(std::lround(r.height * k)));
+}
+
 /// A candidate found in the frame scaled by `scale`, in full-resolution pixels; its mask is interpolated
 /// (soft edges, 0-255), so its outline keeps sub-pixel information for the silhouette.
 Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
@@ -54,9 +62,7 @@ Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
   for (cv::Point& p : c.contour) {
     p = cv::Point(static_cast<int>(std::lround((p.x + 0.5) * k - 0.5)), static_cast<int>(std::lround((p.y + 0.5) * k - 0.5)));
   }
-  const cv::Rect roi = cv::Rect(static_cast<int>(std::lround(c.roi.x * k)), static_cast<int>(std::lround(c.roi.y * k)),
-                                static_cast<int>(std::lround(c.roi.width * k)), static_cast<int>(std::lround(c.roi.height * k))) &
-                       cv::Rect(cv::Point(), full);
+  const cv::Rect roi = scaledRect(c.roi, k) & cv::Rect(cv::Point(), full);
   cv::Mat mask;
   cv::resize(c.mask, mask, roi.size(), 0, 0, cv::INTER_LINEAR);
   c.mask = mask;
@@ -80,6 +86,36 @@ cv::Mat rightColourMask(const RawFrame& right, const cv::Rect& region, const Fro
   return full;
 }
 
+/// The searched image blurred as the colour search blurs it (learned source).
+cv::Mat blurredForSearch(const cv::Mat& small, const DetectorConfig& search) {
+  if (search.colours.blur_px <= 1) return small;
+  cv::Mat blurred;
+  cv::GaussianBlur(small, blurred, cv::Size(search.colours.blur_px, search.colours.blur_px), 0);
+  return blurred;
+}
+
+/// The right frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's
+/// saliency and level against the left frame's water and spread, so the two silhouettes are cut alike.
+cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
+                         const DetectorConfig& config, const DetectorConfig& search) {
+  const cv::Mat small = blurredForSearch(scaledDown(right, region, config.search_scale), search);
+  const double k = config.search_scale;
+  const cv::Rect in_water = cv::Rect(static_cast<int>(std::lround(region.x * k)), static_cast<int>(std::lround(region.y * k)),
+                                     small.cols, small.rows) & cv::Rect(cv::Point(), left.water.size());
+  cv::Mat water;
+  if (in_water.size() == small.size()) {
+    water = left.water(in_water);
+  } else {
+    cv::resize(left.water(in_water), water, small.size(), 0, 0, cv::INTER_LINEAR);
+  }
+  const WaterContrast contrast = contrastAgainst(small, water, left.contrast_stats, config.learned.water);
+  const cv::Mat mask = salientMask(contrast, c.saliency_kind, c.saliency_level);
+  if (config.search_scale >= 1.0) return mask;
+  cv::Mat full;
+  cv::resize(mask, full, region.size(), 0, 0, cv::INTER_LINEAR);
+  return full;
+}
+
 /// `region` grown by what the colour search's blur and morphology reach (so the mask inside it is the
 /// whole frame's), on even pixels (the half-size search's grid), inside `frame`.
 cv::Rect colourSearchRegion(const cv::Rect& region, const DetectorConfig& config, const DetectorConfig& search,
@@ -98,6 +134,24 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
   out.quality = assessQuality(small, config.quality);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
+  if (config.candidates.source == ContourSource::kLearned) {
+    // Contrast with the water is measured as a ratio normalised by the frame's own spread: no contrast
+    // enhancement or white balance before it.
+    out.searched = blurredForSearch(small, search);
+    LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates);
+    t.colour_ms = watch.lapMs();
+    out.water = found.contrast.water;
+    out.contrast_stats = found.contrast.stats;
+    for (Candidate& c : found.candidates) {
+      out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, frame.size()));
+    }
+    for (Rejection& r : found.rejected) {
+      r.roi = scaledRect(r.roi, 1.0 / config.search_scale);
+      out.rejected.push_back(std::move(r));
+    }
+    t.contours_ms = watch.lapMs();
+    return out;
+  }
   out.searched = out.quality.enhanced ? enhanceContrast(small, config.quality) : small;
   if (config.colours.grey_world) {
     out.gains = greyWorldGains(out.searched);
@@ -166,6 +220,19 @@ Detector::Detector(const DetectorConfig& config) : config_(config), search_confi
 
 Detector::~Detector() = default;
 
+std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
+  if (frame.empty()) throw std::invalid_argument("Detector::proposals: empty frame");
+  const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config_.search_scale);
+  if (assessQuality(small, config_.quality).spoiled()) return {};
+  const cv::Mat searched = blurredForSearch(small, search_config_);
+  ProposalConfig proposals = config_.learned.proposals;
+  proposals.min_area_px = search_config_.candidates.min_area_px;
+  proposals.max_area_px = search_config_.candidates.max_area_px;
+  std::vector<BlobProposal> out = proposeBlobs(searched, measureWaterContrast(searched, config_.learned.water), proposals);
+  for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / config_.search_scale);
+  return out;
+}
+
 DetectionResult Detector::detect2d(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::detect2d: empty frame");
   requireImageSize(frame.size(), config_.search_scale, "Detector::detect2d");
@@ -173,6 +240,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   Stopwatch watch, total;
   const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
+  result.rejected = front.rejected;
   for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame, config_));
   result.timings.total_ms = total.lapMs();
   return result;
@@ -180,7 +248,9 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           StageTimings& t) const {
+                                           StageTimings& t, Rejection& rejected) const {
+  const ColourClass& colour = config_.colours.classes[c.colour_index];
+  rejected = Rejection{c.roi, colour.name, c.colour_fraction, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
   const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin);
@@ -190,13 +260,27 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   t.reprojection_ms += roi_points.reprojection_ms;
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
   t.cluster_ms += stage.lapMs();
-  if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) return std::nullopt;
+  if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
+    rejected.reason = "too few 3D points (" + std::to_string(clusters.empty() ? 0 : clusters.front().size()) + " < " +
+                      std::to_string(config_.min_cluster_points) + " in its main cluster, of " +
+                      std::to_string(roi_points.points.size()) + " matched)";
+    return std::nullopt;
+  }
   Detection d = describe2d(c, left, config_);
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
   ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
   placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
   t.fit_ms += stage.lapMs();
-  if (!fit.centre.allFinite() || !fit.size.allFinite()) return std::nullopt;  // never report NaN
+  if (!fit.centre.allFinite() || !fit.size.allFinite()) {  // never report NaN
+    rejected.reason = "shape fit gave no finite position or size";
+    return std::nullopt;
+  }
+  const double extent = fit.size.maxCoeff();
+  if ((colour.min_size_m > 0 && extent < colour.min_size_m) || (colour.max_size_m > 0 && extent > colour.max_size_m)) {
+    rejected.reason = "size " + std::to_string(extent) + " m outside [" + std::to_string(colour.min_size_m) + ", " +
+                      std::to_string(colour.max_size_m) + "] m configured for " + colour.name;
+    return std::nullopt;
+  }
   d.shape = fit.shape;
   d.position_m = fit.centre;
   d.orientation = fit.orientation;
@@ -224,6 +308,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   Stopwatch watch, total;
   const FrontEnd front = runFrontEnd(left, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
+  result.rejected = front.rejected;
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
     return result;
@@ -231,8 +316,10 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   // The right frame's colour mask (for the silhouettes) only where each object's silhouette can be, or the
   // whole frame when contrast enhancement (CLAHE: tiles over the whole frame) has to match the left's.
   const cv::Rect whole_frame(cv::Point(), right.size());
-  const cv::Mat whole_right_colour =
-      front.quality.enhanced ? rightColourMask(right, whole_frame, front, config_, search_config_) : cv::Mat();
+  const bool learned = config_.candidates.source == ContourSource::kLearned;
+  const cv::Mat whole_right_colour = front.quality.enhanced && !learned
+                                         ? rightColourMask(right, whole_frame, front, config_, search_config_)
+                                         : cv::Mat();
   result.timings.colour_ms += watch.lapMs();
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other core.
@@ -243,6 +330,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                    [&](int a, int b) { return front.candidates[a].roi.area() > front.candidates[b].roi.area(); });
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
+  std::vector<Rejection> why(n);
   auto measureRange = [&](const cv::Range& range) {
     for (int i = range.start; i < range.end; ++i) {
       const int k = order[i];
@@ -253,12 +341,13 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
         Stopwatch colour;
         const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right.size());
         if (!region.empty()) {
-          right_colour = rightColourMask(right, region, front, config_, search_config_);
+          right_colour = learned ? rightSalientMask(right, region, front, c, config_, search_config_)
+                                 : rightColourMask(right, region, front, config_, search_config_);
           origin = region.tl();
         }
         times[k].colour_ms = colour.lapMs();
       }
-      found[k] = measure(c, left, right, right_colour, origin, times[k]);
+      found[k] = measure(c, left, right, right_colour, origin, times[k], why[k]);
     }
   };
   // One object alone: OpenCV's own parallel loops (block matching's stripes, remaps) get both cores.
@@ -274,7 +363,11 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     result.timings.reprojection_ms += times[k].reprojection_ms;
     result.timings.cluster_ms += times[k].cluster_ms;
     result.timings.fit_ms += times[k].fit_ms;
-    if (found[k]) result.objects.push_back(std::move(*found[k]));
+    if (found[k]) {
+      result.objects.push_back(std::move(*found[k]));
+    } else {
+      result.rejected.push_back(std::move(why[k]));
+    }
   }
   result.timings.total_ms = total.lapMs();
   return result;

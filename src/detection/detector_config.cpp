@@ -12,23 +12,28 @@
 namespace underwater_stereo {
 namespace {
 
-void parseColour(YamlFields& f, const YAML::Node& node, const std::string& path, ColourClass& c) {
-  f.onlyKeys(node, path, {"name", "hue", "saturation", "value", "min_contrast"});
-  if (!node.IsMap()) return;
+/// Reads one colour class; returns false when it has no hue range (only a learnt colour model needs none).
+bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path, ColourClass& c) {
+  f.onlyKeys(node, path, {"name", "hue", "saturation", "value", "min_contrast", "size_m"});
+  if (!node.IsMap()) return true;
   f.required(node, "name", path, c.name);
   std::vector<double> hue{double(c.hue_min), double(c.hue_max)}, sat{double(c.saturation_min), double(c.saturation_max)},
       val{double(c.value_min), double(c.value_max)};
-  if (!node["hue"]) f.fail(path + "hue: missing ([min, max], OpenCV units 0-179; min > max wraps through 0)");
   f.optionalVector(node, "hue", path, hue, 2);
   f.optionalVector(node, "saturation", path, sat, 2);
   f.optionalVector(node, "value", path, val, 2);
   f.optional(node, "min_contrast", path, c.min_contrast);
+  std::vector<double> size{c.min_size_m, c.max_size_m};
+  f.optionalVector(node, "size_m", path, size, 2);
+  c.min_size_m = size[0];
+  c.max_size_m = size[1];
   c.hue_min = static_cast<int>(hue[0]);
   c.hue_max = static_cast<int>(hue[1]);
   c.saturation_min = static_cast<int>(sat[0]);
   c.saturation_max = static_cast<int>(sat[1]);
   c.value_min = static_cast<int>(val[0]);
   c.value_max = static_cast<int>(val[1]);
+  return static_cast<bool>(node["hue"]);
 }
 
 }  // namespace
@@ -39,17 +44,32 @@ std::vector<std::string> DetectorConfig::validate() const {
                            cluster.validate(), shape.validate()}) {
     p.insert(p.end(), part.begin(), part.end());
   }
+  if (candidates.source == ContourSource::kLearned) {
+    const auto l = learned.validate();
+    p.insert(p.end(), l.begin(), l.end());
+    if (!learned.model) {
+      p.push_back("candidates.source is learned but no colour_model.file is loaded");
+    } else {
+      for (const ColourClass& c : colours.classes) {
+        const auto& known = learned.model->colours();
+        if (std::find(known.begin(), known.end(), c.name) == known.end()) {
+          p.push_back("colours: '" + c.name + "' is designated but the colour model (" + learned.file +
+                      ") has not learnt it; run learn_colours with examples of it");
+        }
+      }
+    }
+  }
   if (min_cluster_points < 3) p.push_back("min_cluster_points must be >= 3");
   if (!(search_scale >= 0.1 && search_scale <= 1.0)) p.push_back("search_scale must be in [0.1, 1]");
   return p;
 }
 
-DetectorConfig parseDetectorConfig(const YAML::Node& root) {
+DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& base_dir) {
   std::vector<std::string> problems;
   YamlFields f(problems);
   DetectorConfig c;
-  f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "stereo", "cluster", "shape",
-                        "min_cluster_points", "search_scale"});
+  f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "colour_model", "stereo", "cluster",
+                        "shape", "min_cluster_points", "search_scale"});
   if (!root.IsMap()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   if (const YAML::Node q = root["quality"]) {
     f.onlyKeys(q, "quality.", {"too_dark_below", "too_bright_above", "enhance_below", "dark_pixel_value",
@@ -62,13 +82,16 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(q, "clahe_clip_limit", "quality.", c.quality.clahe_clip_limit);
     f.optional(q, "clahe_tiles", "quality.", c.quality.clahe_tiles);
   }
+  std::vector<std::string> without_hue;
   if (const YAML::Node list = root["colours"]) {
     if (!list.IsSequence()) {
       f.fail("colours: expected a list of {name, hue, saturation, value}");
     } else {
       for (std::size_t i = 0; i < list.size(); ++i) {
         ColourClass cc;
-        parseColour(f, list[i], "colours[" + std::to_string(i) + "].", cc);
+        if (!parseColour(f, list[i], "colours[" + std::to_string(i) + "].", cc)) {
+          without_hue.push_back("colours[" + std::to_string(i) + "].");
+        }
         c.colours.classes.push_back(cc);
       }
     }
@@ -91,7 +114,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(n, "threshold", "candidates.", threshold);
     if (source == "colour_mask") c.candidates.source = ContourSource::kColourMask;
     else if (source == "grey_threshold") c.candidates.source = ContourSource::kGreyThreshold;
-    else f.fail("candidates.source: '" + source + "' is not colour_mask or grey_threshold");
+    else if (source == "learned") c.candidates.source = ContourSource::kLearned;
+    else f.fail("candidates.source: '" + source + "' is not colour_mask, grey_threshold or learned");
     if (threshold == "otsu") c.candidates.threshold = ThresholdMode::kOtsu;
     else if (threshold == "fixed") c.candidates.threshold = ThresholdMode::kFixed;
     else f.fail("candidates.threshold: '" + threshold + "' is not otsu or fixed");
@@ -102,6 +126,34 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(n, "max_area_px", "candidates.", c.candidates.max_area_px);
     f.optional(n, "min_colour_fraction", "candidates.", c.candidates.min_colour_fraction);
     f.optional(n, "max_candidates", "candidates.", c.candidates.max_candidates);
+  }
+  if (const YAML::Node m = root["colour_model"]) {
+    f.onlyKeys(m, "colour_model.", {"file", "min_confidence", "max_overlap", "background_scale", "levels", "max_proposals"});
+    LearnedColourConfig& l = c.learned;
+    f.optional(m, "file", "colour_model.", l.file);
+    f.optional(m, "min_confidence", "colour_model.", l.min_confidence);
+    f.optional(m, "max_overlap", "colour_model.", l.max_overlap);
+    f.optional(m, "background_scale", "colour_model.", l.water.background_scale);
+    if (const YAML::Node levels = m["levels"]) {
+      l.proposals.levels.clear();
+      for (std::size_t i = 0; levels.IsSequence() && i < levels.size(); ++i) {
+        try {
+          l.proposals.levels.push_back(levels[i].as<double>());
+        } catch (const YAML::Exception&) {
+          f.fail("colour_model.levels[" + std::to_string(i) + "]: expected a number");
+        }
+      }
+      if (!levels.IsSequence()) f.fail("colour_model.levels: expected a list of saliency levels");
+    }
+    f.optional(m, "max_proposals", "colour_model.", l.proposals.max_proposals);
+    if (!l.file.empty()) {
+      if (l.file.front() != '/' && !base_dir.empty()) l.file = base_dir + "/" + l.file;
+      try {
+        l.model = std::make_shared<const ColourModel>(ColourModel::load(l.file));
+      } catch (const std::invalid_argument& e) {
+        f.fail(std::string("colour_model.file: ") + e.what());
+      }
+    }
   }
   if (const YAML::Node s = root["stereo"]) {
     f.onlyKeys(s, "stereo.", {"min_depth_m", "max_depth_m", "block_size", "uniqueness_ratio", "margin_px", "erode_px",
@@ -126,6 +178,12 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
     f.optional(s, "box_face_contrast", "shape.", c.shape.box_face_contrast);
     f.optional(s, "min_elongation", "shape.", c.shape.min_elongation);
   }
+  if (c.candidates.source != ContourSource::kLearned) {
+    for (const std::string& path : without_hue) {
+      f.fail(path + "hue: missing ([min, max], OpenCV units 0-179; min > max wraps through 0), needed unless "
+                    "candidates.source is learned");
+    }
+  }
   f.optional(root, "min_cluster_points", "", c.min_cluster_points);
   f.optional(root, "search_scale", "", c.search_scale);
   // Every value problem too, not only the ones the reading found (a misread field keeps its valid default).
@@ -136,7 +194,10 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root) {
 }
 
 DetectorConfig loadDetectorConfigFile(const std::string& path) {
-  return parseYamlFile(path, "detector configuration", parseDetectorConfig);
+  const std::size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash);
+  return parseYamlFile(path, "detector configuration",
+                       [&dir](const YAML::Node& root) { return parseDetectorConfig(root, dir.empty() ? "." : dir); });
 }
 
 DetectorConfig scaledForSearch(const DetectorConfig& config) {

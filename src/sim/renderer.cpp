@@ -57,6 +57,8 @@ struct PlacedObject {
   Primitive primitive;
   Eigen::Vector3f albedo;
   float texture;
+  float specular;
+  float shininess;
   std::uint32_t seed;
 };
 
@@ -69,8 +71,35 @@ struct ShadingContext {
   Eigen::Vector3f attenuation;      // r, g, b
   Eigen::Vector3f veiling;
   Eigen::Vector3f downwelling;
+  Eigen::Vector3f sun_direction;    // unit, the way the light travels
+  Eigen::Vector3f lamp_colour;
   float exposure;
+  float time_s;                     // moves the caustics
 };
+
+constexpr std::uint32_t kCausticsSeed = 7919U;
+
+/// Relative sunlight (mean ~1) at world point p: a web of bright lines where the wavy surface focuses light.
+/// The pattern lives on the horizontal plane through the camera, carried along the sun's direction, so a
+/// surface sees the cell the sunlight that reaches it crossed there; it drifts with time.
+float causticFactor(const ShadingContext& ctx, const Eigen::Vector3f& p) {
+  const LightConfig& light = ctx.scene->light;
+  if (light.caustics <= 0.0) return 1.0F;
+  const Eigen::Vector3f& s = ctx.sun_direction;
+  const float k = 1.0F / static_cast<float>(light.caustics_scale_m);
+  const float x = (p.x() - s.x() / s.y() * p.y()) * k + 0.3F * ctx.time_s;
+  const float z = (p.z() - s.z() / s.y() * p.y()) * k + 0.2F * ctx.time_s;
+  float web = 0.0F;
+  for (int octave = 0; octave < 2; ++octave) {
+    const float f = octave == 0 ? 1.0F : 2.3F;
+    // Ridges of value noise: thin bright lines where the noise crosses its middle.
+    const float ridge = 1.0F - std::abs(2.0F * valueNoise(f * x, 0.5F * ctx.time_s, f * z, kCausticsSeed + octave) - 1.0F);
+    const float r2 = ridge * ridge, r4 = r2 * r2;
+    web += (octave == 0 ? 0.65F : 0.35F) * r4 * r2;
+  }
+  // ridge^6 averages about 1/7 for uniform noise: 7 * web has mean ~1.
+  return std::max(0.0F, 1.0F + static_cast<float>(light.caustics) * (7.0F * web - 1.0F));
+}
 
 /// Linear RGB radiance reaching the camera along a world ray; label = 1 + object index, 0 otherwise.
 Eigen::Vector3f shade(const ShadingContext& ctx, const Eigen::Vector3f& dir, std::uint16_t& label) {
@@ -116,14 +145,25 @@ Eigen::Vector3f shade(const ShadingContext& ctx, const Eigen::Vector3f& dir, std
       ctx.veiling * std::max(0.2F, 1.0F + static_cast<float>(s.water.veiling_gradient) * (-dir.y()));
   if (!surface) return veiling * ctx.exposure;
 
-  const float up = std::max(0.0F, -normal.y());
+  const float up = std::max(0.0F, -normal.dot(ctx.sun_direction));
   const float ambient = static_cast<float>(s.light.ambient);
   const Eigen::Vector3f transmit = (-ctx.attenuation * t_best).array().exp().matrix();
   const float facing = std::max(0.0F, -normal.dot(dir));
   const float d = std::max(t_best, 0.2F);
   const float lamp = static_cast<float>(s.light.lamp_intensity) * facing / (d * d);
-  const Eigen::Vector3f irradiance = ctx.downwelling * (ambient + (1.0F - ambient) * up) + Eigen::Vector3f::Constant(lamp).cwiseProduct(transmit);
-  const Eigen::Vector3f direct = albedo.cwiseProduct(irradiance).cwiseProduct(transmit);
+  const float sun = up > 0.0F ? up * causticFactor(ctx, o + t_best * dir) : 0.0F;
+  const Eigen::Vector3f lamp_irradiance = (lamp * ctx.lamp_colour).cwiseProduct(transmit);
+  const Eigen::Vector3f irradiance = ctx.downwelling * (ambient + (1.0F - ambient) * sun) + lamp_irradiance;
+  Eigen::Vector3f direct = albedo.cwiseProduct(irradiance).cwiseProduct(transmit);
+  if (best >= 0 && (*ctx.objects)[best].specular > 0.0F) {
+    // Blinn-Phong highlights of the lamp (at the camera: half vector = -dir) and of the sun.
+    const PlacedObject& obj = (*ctx.objects)[best];
+    const Eigen::Vector3f half_sun = (-dir - ctx.sun_direction).normalized();
+    const float lamp_lobe = std::pow(facing, obj.shininess);
+    const float sun_lobe = up > 0.0F ? std::pow(std::max(0.0F, normal.dot(half_sun)), obj.shininess) : 0.0F;
+    const Eigen::Vector3f glint = lamp_lobe * lamp_irradiance / std::max(facing, 1e-3F) + sun_lobe * ctx.downwelling;
+    direct += obj.specular * glint.cwiseProduct(transmit);
+  }
   const Eigen::Vector3f backscatter = veiling.cwiseProduct(Eigen::Vector3f::Ones() - transmit);
   return (direct + backscatter) * ctx.exposure;
 }
@@ -152,6 +192,10 @@ void renderCamera(const ShadingContext& ctx, const cv::Mat& rays, cv::Mat& linea
 cv::Mat develop(const cv::Mat& linear_bgr, const SensorConfig& sensor, std::uint64_t noise_seed) {
   cv::Mat encoded;
   cv::max(linear_bgr, 0.0, encoded);
+  if (sensor.white_balance != Eigen::Vector3d::Ones()) {
+    cv::multiply(encoded, cv::Scalar(sensor.white_balance.z(), sensor.white_balance.y(), sensor.white_balance.x()),
+                 encoded);
+  }
   cv::min(encoded, 1.0, encoded);
   cv::pow(encoded, 1.0 / sensor.gamma, encoded);
   encoded *= 255.0;
@@ -191,6 +235,23 @@ Renderer::Renderer(Scene scene) : scene_(std::move(scene)), rig_(scene_.rig) {
   right_rays_ = pixelRays(rig_.right());
 }
 
+Renderer::Renderer(Scene scene, const Renderer& rays_from) : scene_(std::move(scene)), rig_(scene_.rig) {
+  const std::vector<std::string> problems = scene_.validate();
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
+  const RigConfig &a = scene_.rig, &b = rays_from.scene_.rig;
+  if (a.width != b.width || a.height != b.height || a.pixel_size_um != b.pixel_size_um ||
+      a.focal_length_mm != b.focal_length_mm || a.water_focal_factor != b.water_focal_factor ||
+      a.baseline_m != b.baseline_m || a.right_rotation_deg != b.right_rotation_deg ||
+      a.right_offset_m != b.right_offset_m || a.left_distortion != b.left_distortion ||
+      a.right_distortion != b.right_distortion || a.principal_offset_px != b.principal_offset_px) {
+    throw std::invalid_argument("Renderer::withScene: scene '" + scene_.name + "' has another rig");
+  }
+  left_rays_ = rays_from.left_rays_;
+  right_rays_ = rays_from.right_rays_;
+}
+
+Renderer Renderer::withScene(Scene scene) const { return Renderer(std::move(scene), *this); }
+
 RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
   const Eigen::Isometry3d left_pose = cameraPose(scene_.camera_motion, time_s);
   const Eigen::Isometry3d right_pose = left_pose * rig_.rightInLeft();
@@ -204,7 +265,8 @@ RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
     const Eigen::Vector3d centre = o.position_m + displacement(o.motion, time_s);
     const Eigen::Matrix3d rotation = rotationFromRpyDeg(o.rpy_deg);
     placed.push_back({Primitive(o.shape, centre.cast<float>(), rotation.cast<float>(), o.size_m.cast<float>()),
-                      o.albedo.cast<float>(), static_cast<float>(o.texture), static_cast<std::uint32_t>(1000 + i)});
+                      o.albedo.cast<float>(), static_cast<float>(o.texture), static_cast<float>(o.specular),
+                      static_cast<float>(o.shininess), static_cast<std::uint32_t>(1000 + i)});
     GroundTruthObject gt;
     gt.name = o.name;
     gt.shape = shapeName(o.shape);
@@ -225,7 +287,10 @@ RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
                      scene_.water.attenuation_per_m.cast<float>(),
                      scene_.water.veiling_light.cast<float>(),
                      scene_.light.downwelling.cast<float>(),
-                     static_cast<float>(scene_.light.exposure)};
+                     scene_.light.sun_direction.normalized().cast<float>(),
+                     scene_.light.lamp_colour.cast<float>(),
+                     static_cast<float>(scene_.light.exposure),
+                     static_cast<float>(time_s)};
   cv::Mat left_linear, right_linear;
   renderCamera(ctx, left_rays_, left_linear, &out.left_labels);
   ctx.cam_rotation = right_pose.linear().cast<float>();

@@ -32,7 +32,7 @@ bool parseShape(const std::string& name, ShapeType& shape) {
 
 SceneObject parseObject(YamlFields& f, const YAML::Node& node, const std::string& path) {
   SceneObject o;
-  f.onlyKeys(node, path, {"name", "shape", "colour", "albedo", "texture", "position_m", "rpy_deg", "diameter_m",
+  f.onlyKeys(node, path, {"name", "shape", "colour", "albedo", "texture", "specular", "shininess", "position_m", "rpy_deg", "diameter_m",
                           "length_m", "size_m", "motion"});
   if (!node.IsMap()) return o;
   f.required(node, "name", path, o.name);
@@ -44,6 +44,8 @@ SceneObject parseObject(YamlFields& f, const YAML::Node& node, const std::string
   f.required(node, "colour", path, o.colour);
   f.optionalVector3(node, "albedo", path, o.albedo);
   f.optional(node, "texture", path, o.texture);
+  f.optional(node, "specular", path, o.specular);
+  f.optional(node, "shininess", path, o.shininess);
   if (!node["position_m"]) f.fail(path + "position_m: missing");
   f.optionalVector3(node, "position_m", path, o.position_m);
   f.optionalVector3(node, "rpy_deg", path, o.rpy_deg);
@@ -105,7 +107,8 @@ std::vector<std::string> Scene::validate() const {
   std::vector<std::string> p;
   requireRange(p, "rig.width", rig.width, 16, 8192);
   requireRange(p, "rig.height", rig.height, 16, 8192);
-  requireRange(p, "rig.pixel_size_um", rig.pixel_size_um, 0.5, 50);
+  // Up to 1 mm: small test and probe renders keep the field of view with few, large pixels.
+  requireRange(p, "rig.pixel_size_um", rig.pixel_size_um, 0.5, 1000);
   requireRange(p, "rig.focal_length_mm", rig.focal_length_mm, 1, 100);
   requireRange(p, "rig.water_focal_factor", rig.water_focal_factor, 1, 2);
   requireRange(p, "rig.baseline_m", rig.baseline_m, 0.01, 2);
@@ -122,6 +125,13 @@ std::vector<std::string> Scene::validate() const {
   requireRange(p, "water.veiling_gradient", water.veiling_gradient, 0, 2);
   requireRange3(p, "light.downwelling", light.downwelling, 0, 10);
   requireRange(p, "light.ambient", light.ambient, 0, 1);
+  requireRange3(p, "light.sun_direction", light.sun_direction, -1, 1);
+  if (!(light.sun_direction.y() > 0.05 * light.sun_direction.norm())) {
+    p.push_back("light.sun_direction: must point down (y > 0): the sun is above the water");
+  }
+  requireRange(p, "light.caustics", light.caustics, 0, 1);
+  requireRange(p, "light.caustics_scale_m", light.caustics_scale_m, 0.01, 10);
+  requireRange3(p, "light.lamp_colour", light.lamp_colour, 0, 2);
   requireRange(p, "light.lamp_intensity", light.lamp_intensity, 0, 100);
   requireRange(p, "light.exposure", light.exposure, 0.01, 100);
   requireRange(p, "seabed.depth_m", seabed.depth_m, 0.1, 1000);
@@ -134,11 +144,14 @@ std::vector<std::string> Scene::validate() const {
   requireRange(p, "sensor.noise_sigma", sensor.noise_sigma, 0, 100);
   requireRange(p, "sensor.blur_sigma_px", sensor.blur_sigma_px, 0, 20);
   requireRange(p, "sensor.gamma", sensor.gamma, 0.2, 5);
+  requireRange3(p, "sensor.white_balance", sensor.white_balance, 0.1, 10);
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const SceneObject& o = objects[i];
     const std::string n = "objects[" + std::to_string(i) + "] (" + o.name + ").";
     requireRange3(p, n + "albedo", o.albedo, 0, 1);
     requireRange(p, n + "texture", o.texture, 0, 1);
+    requireRange(p, n + "specular", o.specular, 0, 1);
+    requireRange(p, n + "shininess", o.shininess, 1, 5000);
     requireRange3(p, n + "position_m", o.position_m, -1000, 1000);
     const int extents = o.shape == ShapeType::kPanel ? 2 : 3;
     for (int k = 0; k < extents; ++k) requireRange(p, n + "size_m[" + std::to_string(k) + "]", o.size_m[k], 0.005, 50);
@@ -182,10 +195,15 @@ Scene parseScene(const YAML::Node& root) {
     f.optional(w, "veiling_gradient", "water.", s.water.veiling_gradient);
   }
   if (const YAML::Node l = root["light"]) {
-    f.onlyKeys(l, "light.", {"downwelling", "ambient", "lamp_intensity", "exposure"});
+    f.onlyKeys(l, "light.", {"downwelling", "ambient", "sun_direction", "caustics", "caustics_scale_m",
+                             "lamp_intensity", "lamp_colour", "exposure"});
     f.optionalVector3(l, "downwelling", "light.", s.light.downwelling);
     f.optional(l, "ambient", "light.", s.light.ambient);
+    f.optionalVector3(l, "sun_direction", "light.", s.light.sun_direction);
+    f.optional(l, "caustics", "light.", s.light.caustics);
+    f.optional(l, "caustics_scale_m", "light.", s.light.caustics_scale_m);
     f.optional(l, "lamp_intensity", "light.", s.light.lamp_intensity);
+    f.optionalVector3(l, "lamp_colour", "light.", s.light.lamp_colour);
     f.optional(l, "exposure", "light.", s.light.exposure);
   }
   if (const YAML::Node b = root["seabed"]) {
@@ -197,11 +215,12 @@ Scene parseScene(const YAML::Node& root) {
     f.optional(b, "texture_scale_m", "seabed.", s.seabed.texture_scale_m);
   }
   if (const YAML::Node n = root["sensor"]) {
-    f.onlyKeys(n, "sensor.", {"encoding", "noise_sigma", "blur_sigma_px", "gamma", "seed"});
+    f.onlyKeys(n, "sensor.", {"encoding", "noise_sigma", "blur_sigma_px", "gamma", "white_balance", "seed"});
     f.optional(n, "encoding", "sensor.", s.sensor.encoding);
     f.optional(n, "noise_sigma", "sensor.", s.sensor.noise_sigma);
     f.optional(n, "blur_sigma_px", "sensor.", s.sensor.blur_sigma_px);
     f.optional(n, "gamma", "sensor.", s.sensor.gamma);
+    f.optionalVector3(n, "white_balance", "sensor.", s.sensor.white_balance);
     f.optional(n, "seed", "sensor.", s.sensor.seed);
   }
   parseMotion(f, root["camera_motion"], "camera_motion.", s.camera_motion);

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "underwater_stereo/config/yaml_fields.h"
-#include "underwater_stereo/detection/calibration_yaml.h"
+#include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_file.h"

@@ -1,20 +1,30 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// evaluate_detector: renders simulated scenes, runs the detector on every pair and compares the detections
-// with the ground truth. Prints a Markdown table per scene and overall (recall, false detections per frame,
-// range/position/size errors, shape accuracy).
+// evaluate_detector: renders simulated scenes (scene files, or scenes sampled from seeds), runs the detector on
+// every pair and compares the detections with the ground truth. Prints Markdown tables (recall, colour and shape
+// right, false detections per frame, range/position/size errors), overall and broken down.
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
-#include <opencv2/imgproc.hpp>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include "underwater_stereo/detection/detector.h"
+#include "random_evaluation.h"
 #include "tool_helpers.h"
+#include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene_sampler.h"
 
 namespace {
 
@@ -22,7 +32,15 @@ using namespace underwater_stereo;
 
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
-    "  Renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, and compares with ground truth.\n"
+    "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
+    "                         [--json FILE] [--worst K DIR]\n"
+    "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--size WxH]\n"
+    "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
+    "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
+    "    prints recall, colour and shape right, range and position errors and false detections per frame,\n"
+    "    overall and by range, turbidity, water, brightness, colour and shape; --jobs J pairs at once;\n"
+    "    --json FILE: every object and false detection; --worst K DIR: the K worst failures' left images.\n"
+    "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
 
 struct Stats {
@@ -122,59 +140,248 @@ void merge(Stats& into, const Stats& s) {
   append(into.ms, s.ms);
 }
 
+int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::string>& scenes, int frames, double rate) {
+  std::vector<std::string> designated;
+  for (const auto& c : config.colours.classes) designated.push_back(c.name);
+  Stats all;
+  std::cout << "| scene | frames | objects | recall % | false/frame | range err median % | range err p95 % |"
+               " position err p95 % | size err median % (<= 3 m) | shape correct % | detector ms (median) |\n"
+               "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& path : scenes) {
+    const sim::Renderer renderer(sim::loadSceneFile(path));
+    Detector detector(config, renderer.calibration());
+    Stats s;
+    for (int k = 0; k < frames; ++k) {
+      const sim::RenderedPair pair = renderer.render(k / rate, static_cast<std::uint64_t>(k));
+      accumulate(s, pair.ground_truth,
+                 detector.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)),
+                                 RawFrame(pair.right, pixelLayoutOf(pair.encoding))),
+                 designated);
+    }
+    std::string name = path.substr(path.find_last_of('/') + 1);
+    printRow(name, s);
+    merge(all, s);
+  }
+  printRow("**all**", all);
+  return 0;
+}
+
+struct RandomOptions {
+  int pairs = 0;
+  std::uint64_t seed = 1000;
+  int jobs = 1;
+  std::string json_path, worst_dir;
+  std::size_t worst = 0;
+};
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Pair `seed` sampled, rendered and detected; also hands back the rendered pair and result when asked.
+tools::PairRecord runPair(const sim::SceneSamplerConfig& sampler, const sim::Renderer& head, const Detector& detector,
+                          std::uint64_t seed, cv::Mat* left_bgr = nullptr, DetectionResult* result_out = nullptr) {
+  const auto started = std::chrono::steady_clock::now();
+  const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
+  const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
+  const double render_ms = msSince(started);
+  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
+  const DetectionResult result = detector.detect(left, right);
+  const cv::Mat bgr = left.bgr();
+  tools::PairRecord record = tools::evaluatePair(sampled, pair, result, sim::meanLuma(bgr));
+  record.render_ms = render_ms;
+  if (left_bgr) *left_bgr = bgr;
+  if (result_out) *result_out = result;
+  return record;
+}
+
+/// Mean luma of the paper's eight brightness levels (Kramar et al. 2023, Fig. 20/21).
+const double kPaperLevels[] = {242.8, 198.0, 155.0, 112.0, 80.0, 55.0, 33.0, 18.0};
+
+/// The scene of `seed` at each paper level: the exposure is scaled until the left image's mean BT.601 luma (as the
+/// camera delivers it, noise included) is within 1 of the level; then one detection per level.
+int evaluatePaperBrightness(const DetectorConfig& config, const sim::SceneSamplerConfig& sampler, std::uint64_t seed) {
+  const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
+  const sim::Renderer head(sampled.scene);
+  const Detector detector(config, head.calibration());
+  std::cout << "Scene of seed " << seed << " (turbidity " << std::fixed << std::setprecision(2) << sampled.turbidity
+            << ", water type " << sampled.water_type << ") at the paper's brightness levels\n\n| target luma | luma | exposure | quality |";
+  for (const auto& o : sampled.scene.objects) std::cout << " " << o.name << " |";
+  std::cout << "\n|---|---|---|---|";
+  for (std::size_t i = 0; i < sampled.scene.objects.size(); ++i) std::cout << "---|";
+  std::cout << "\n";
+  for (const double level : kPaperLevels) {
+    sim::Scene scene = sampled.scene;
+    sim::autoExpose(scene, level, 4);
+    double lo = 0.0, hi = 1e9, luma = 0.0;
+    sim::RenderedPair pair;
+    cv::Mat bgr;
+    for (int iteration = 0; iteration < 10; ++iteration) {
+      pair = head.withScene(scene).render(0.0, 0);
+      bgr = RawFrame(pair.left, pixelLayoutOf(pair.encoding)).bgr();
+      luma = sim::meanLuma(bgr);
+      if (std::abs(luma - level) < 1.0) break;
+      double& bound = luma < level ? lo : hi;
+      bound = scene.light.exposure;
+      double next = scene.light.exposure * std::clamp(std::pow(level / std::max(luma, 1.0), scene.sensor.gamma), 0.1, 10.0);
+      if (!(next > lo && next < hi)) next = hi < 1e9 && lo > 0.0 ? std::sqrt(lo * hi) : next;
+      scene.light.exposure = std::clamp(next, 0.011, 99.0);
+    }
+    const DetectionResult result = detector.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)),
+                                                   RawFrame(pair.right, pixelLayoutOf(pair.encoding)));
+    const tools::PairRecord record = tools::evaluatePair(sampled, pair, result, luma);
+    std::cout << "| " << std::setprecision(1) << level << " | " << luma << " | " << std::setprecision(3)
+              << scene.light.exposure << " | " << record.quality << " |";
+    for (const auto& o : record.objects) {
+      std::cout << " ";
+      if (!o.eligible) std::cout << "(not eligible: " << o.visible_pixels << " px, " << std::setprecision(1) << o.range_m << " m)";
+      else if (!o.found) std::cout << "missed";
+      else {
+        std::cout << o.detected_colour << " " << o.detected_shape << ", range err " << std::setprecision(1)
+                  << 100.0 * o.range_error << " %";
+      }
+      std::cout << " |";
+    }
+    std::cout << (record.false_detections.empty() ? "" : " +" + std::to_string(record.false_detections.size()) + " false")
+              << "\n";
+  }
+  return 0;
+}
+
+int evaluateRandom(const DetectorConfig& config, const std::string& config_path, const sim::SceneSamplerConfig& sampler,
+                   const RandomOptions& opt) {
+  const auto started = std::chrono::steady_clock::now();
+  // One head for every scene: its pixel rays are computed once.
+  const sim::Renderer head(sim::sampleScene(opt.seed, sampler).scene);
+  const Detector detector(config, head.calibration());
+  std::vector<tools::PairRecord> records(static_cast<std::size_t>(opt.pairs));
+  std::atomic<int> next{0};
+  std::mutex error_mutex;
+  std::string error;
+  auto work = [&]() {
+    for (int i = next++; i < opt.pairs; i = next++) {
+      try {
+        records[i] = runPair(sampler, head, detector, opt.seed + static_cast<std::uint64_t>(i));
+      } catch (const std::exception& e) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        error = "seed " + std::to_string(opt.seed + i) + ": " + e.what();
+        next = opt.pairs;
+      }
+      if (verbose) std::cerr << "pair " << i << " (seed " << opt.seed + i << ") done\n";
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < opt.jobs; ++j) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  if (!error.empty()) throw std::runtime_error(error);
+  const double wall_ms = msSince(started);
+
+  std::cout << "Sampled pairs: " << opt.pairs << " (pair i from seed " << opt.seed << " + i, seeds " << opt.seed << "-"
+            << opt.seed + opt.pairs - 1 << "), " << sampler.width << "x" << sampler.height << "\n\n";
+  tools::printSummary(std::cout, records);
+  std::vector<double> render_ms, detect_ms;
+  for (const auto& r : records) {
+    render_ms.push_back(r.render_ms);
+    detect_ms.push_back(r.detect_ms);
+  }
+  std::cout << std::fixed << std::setprecision(0) << "\nTime: sampling + rendering median " << tools::percentile(render_ms, 0.5)
+            << " ms, detector median " << tools::percentile(detect_ms, 0.5) << " ms per pair; " << wall_ms / opt.pairs
+            << " ms per pair wall-clock with " << opt.jobs << " job(s)\n";
+  if (!opt.json_path.empty()) {
+    std::ofstream json(opt.json_path);
+    tools::writeJson(json, records, config_path);
+    if (!json) throw std::runtime_error("cannot write " + opt.json_path);
+  }
+  if (opt.worst > 0) {
+    std::filesystem::create_directories(opt.worst_dir);
+    int rank = 0;
+    for (const auto& [p, o] : tools::worstFailures(records, opt.worst)) {
+      cv::Mat bgr;
+      DetectionResult result;
+      const tools::PairRecord again = runPair(sampler, head, detector, records[p].seed, &bgr, &result);
+      std::ostringstream name;
+      name << opt.worst_dir << "/worst_" << std::setw(3) << std::setfill('0') << ++rank << "_seed" << records[p].seed
+           << "_" << records[p].objects[o].name << ".png";
+      if (!cv::imwrite(name.str(), tools::failurePicture(bgr, again, again.objects[o], result))) {
+        throw std::runtime_error("cannot write " + name.str());
+      }
+    }
+    std::cout << rank << " worst failures written to " << opt.worst_dir << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string config_path;
   int frames = 10;
   double rate = 2.0;
+  bool paper_brightness = false;
+  RandomOptions random;
+  sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--verbose") {
-      verbose = true;
-    } else if ((a == "--config" || a == "--frames" || a == "--rate") && i + 1 < argc) {
-      const std::string v = argv[++i];
-      if (a == "--config") config_path = v;
-      else if (a == "--frames") frames = std::atoi(v.c_str());
-      else rate = std::atof(v.c_str());
-    } else if (!a.empty() && a[0] == '-') {
-      std::cerr << kUsage;
-      return 2;
-    } else {
-      scenes.push_back(a);
+  try {
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
+        return argv[++i];
+      };
+      auto integer = [&](long lo, long hi) {
+        const std::string v = value();
+        std::size_t used = 0;
+        const long n = std::stol(v, &used);
+        if (used != v.size() || n < lo || n > hi) {
+          throw std::invalid_argument(a + ": '" + v + "' is not an integer in [" + std::to_string(lo) + ", " +
+                                      std::to_string(hi) + "]");
+        }
+        return n;
+      };
+      if (a == "--verbose") verbose = true;
+      else if (a == "--paper-brightness") paper_brightness = true;
+      else if (a == "--config") config_path = value();
+      else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
+      else if (a == "--rate") rate = std::stod(value());
+      else if (a == "--random") random.pairs = static_cast<int>(integer(1, 10000000));
+      else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
+      else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
+      else if (a == "--json") random.json_path = value();
+      else if (a == "--worst") {
+        random.worst = static_cast<std::size_t>(integer(1, 100000));
+        random.worst_dir = value();
+      } else if (a == "--size") {
+        const std::string v = value();
+        if (std::sscanf(v.c_str(), "%dx%d", &sampler.width, &sampler.height) != 2) {
+          throw std::invalid_argument("--size: '" + v + "' is not WIDTHxHEIGHT");
+        }
+      } else if (!a.empty() && a[0] == '-') {
+        throw std::invalid_argument("unknown option " + a);
+      } else {
+        scenes.push_back(a);
+      }
     }
-  }
-  if (config_path.empty() || scenes.empty() || frames < 1 || !(rate > 0)) {
-    std::cerr << kUsage;
+    const int modes = (random.pairs > 0) + paper_brightness + !scenes.empty();
+    if (config_path.empty()) throw std::invalid_argument("--config is required");
+    if (modes != 1) throw std::invalid_argument("give scene files, --random N or --paper-brightness (one of them)");
+    if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
+    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1) && random.pairs == 0) {
+      throw std::invalid_argument("--json, --worst and --jobs go with --random");
+    }
+    const std::vector<std::string> problems = sampler.validate();
+    if (!problems.empty()) throw std::invalid_argument(problems.front());
+  } catch (const std::exception& e) {
+    std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
     return 2;
   }
   try {
     const DetectorConfig config = loadDetectorConfigFile(config_path);
-    std::vector<std::string> designated;
-    for (const auto& c : config.colours.classes) designated.push_back(c.name);
-    Stats all;
-    std::cout << "| scene | frames | objects | recall % | false/frame | range err median % | range err p95 % |"
-                 " position err p95 % | size err median % (<= 3 m) | shape correct % | detector ms (median) |\n"
-                 "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const auto& path : scenes) {
-      const sim::Renderer renderer(sim::loadSceneFile(path));
-      Detector detector(config, renderer.calibration());
-      Stats s;
-      for (int k = 0; k < frames; ++k) {
-        const sim::RenderedPair pair = renderer.render(k / rate, static_cast<std::uint64_t>(k));
-        accumulate(s, pair.ground_truth,
-                   detector.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)), RawFrame(pair.right, pixelLayoutOf(pair.encoding))),
-                   designated);
-      }
-      std::string name = path.substr(path.find_last_of('/') + 1);
-      printRow(name, s);
-      merge(all, s);
-    }
-    printRow("**all**", all);
+    if (random.pairs > 0) return evaluateRandom(config, config_path, sampler, random);
+    if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);
+    return evaluateSceneFiles(config, scenes, frames, rate);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n";
     return 1;
   }
-  return 0;
 }

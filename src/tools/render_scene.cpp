@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // render_scene: renders a simulated scene file into a rosbag (images, camera_info, ground truth) and/or
-// PNG pairs with camera_info YAML files, for offline use.
+// PNG pairs with camera_info YAML files, for offline use; or sampled scenes as training data for a colour
+// learner (left images, Pascal VOC boxes and per-pixel label masks from the exact truth).
 #include <camera_calibration_parsers/parse.h>
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgcodecs.hpp>
@@ -20,20 +21,31 @@
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
 #include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene_sampler.h"
+#include "underwater_stereo/sim/voc_labels.h"
 
 namespace {
 
 const char* kUsage =
     "usage: render_scene --scene SCENE.yaml [--frames N] [--rate HZ] [--bag OUT.bag] [--png-dir DIR]\n"
     "                    [--namespace stereo] [--start-time SECONDS]\n"
+    "       render_scene --random N [--seed S] --out DIR [--size WxH]\n"
     "  Renders frames 0..N-1 (scene time k/HZ) of SCENE.yaml.\n"
     "  --bag      writes <ns>/left/image_raw, <ns>/left/camera_info, <ns>/right/..., <ns>/ground_truth\n"
     "  --png-dir  writes left_NNNN.png / right_NNNN.png (demosaiced BGR), left.yaml / right.yaml\n"
-    "             (camera_calibration format) and ground_truth.yaml\n";
+    "             (camera_calibration format) and ground_truth.yaml\n"
+    "  --random   renders the scenes sampled from seeds S..S+N-1 (default S = 1000) and writes, per seed (id = the\n"
+    "             seed, 6 digits), DIR/images/<id>.png (left, demosaiced BGR), DIR/annotations/<id>.xml (Pascal\n"
+    "             VOC: one <object> per visible red/orange/yellow/green object, <name> = its colour; <difficult>\n"
+    "             when under 400 px) and DIR/masks/<id>.png (0 background, k = the XML's k-th <object>).\n"
+    "             Distractors (other colours) are background.\n";
 
 struct Options {
-  std::string scene, bag, png_dir, ns = "stereo";
+  std::string scene, bag, png_dir, ns = "stereo", out_dir;
   int frames = 1;
+  int random = 0;
+  long long seed = 1000;
+  underwater_stereo::sim::SceneSamplerConfig sampler;
   double rate_hz = 15.0;
   double start_time_s = 1.6e9;
 };
@@ -55,7 +67,15 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       else if (arg == "--frames") o.frames = std::stoi(value);
       else if (arg == "--rate") o.rate_hz = std::stod(value);
       else if (arg == "--start-time") o.start_time_s = std::stod(value);
-      else {
+      else if (arg == "--random") o.random = std::stoi(value);
+      else if (arg == "--seed") o.seed = std::stoll(value);
+      else if (arg == "--out") o.out_dir = value;
+      else if (arg == "--size") {
+        if (std::sscanf(value.c_str(), "%dx%d", &o.sampler.width, &o.sampler.height) != 2) {
+          error = "--size: '" + value + "' is not WIDTHxHEIGHT";
+          return false;
+        }
+      } else {
         error = "unknown option " + arg;
         return false;
       }
@@ -63,6 +83,14 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       error = arg + ": '" + value + "' is not a number";
       return false;
     }
+  }
+  if (o.random != 0 || !o.out_dir.empty()) {
+    if (!o.scene.empty() || !o.bag.empty() || !o.png_dir.empty()) error = "--random does not go with --scene, --bag, --png-dir";
+    else if (o.random < 1) error = "--random must be >= 1";
+    else if (o.seed < 0) error = "--seed must be >= 0";
+    else if (o.out_dir.empty()) error = "--random needs --out DIR";
+    else if (!o.sampler.validate().empty()) error = o.sampler.validate().front();
+    return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";
   else if (o.bag.empty() && o.png_dir.empty()) error = "give --bag and/or --png-dir";
@@ -86,6 +114,33 @@ YAML::Node groundTruthYaml(const underwater_stereo::sim::GroundTruthObject& g) {
   return n;
 }
 
+/// Training data for a colour learner from the sampled scenes of seeds opt.seed .. opt.seed + opt.random - 1.
+void writeTrainingData(const Options& opt) {
+  using namespace underwater_stereo;
+  namespace fs = std::filesystem;
+  const fs::path out(opt.out_dir);
+  for (const char* sub : {"images", "annotations", "masks"}) fs::create_directories(out / sub);
+  const sim::Renderer head(sim::sampleScene(static_cast<std::uint64_t>(opt.seed), opt.sampler).scene);
+  for (int i = 0; i < opt.random; ++i) {
+    const auto seed = static_cast<std::uint64_t>(opt.seed + i);
+    const sim::SampledScene sampled = sim::sampleScene(seed, opt.sampler);
+    const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
+    const std::vector<std::size_t> labelled = sim::labelledObjects(pair.ground_truth, opt.sampler.designated);
+    char id[32];
+    std::snprintf(id, sizeof(id), "%06llu", static_cast<unsigned long long>(seed));
+    const std::string image = std::string(id) + ".png";
+    const cv::Mat bgr = RawFrame(pair.left, pixelLayoutOf(pair.encoding)).bgr();
+    if (!cv::imwrite((out / "images" / image).string(), bgr) ||
+        !cv::imwrite((out / "masks" / image).string(), sim::labelMask(pair.left_labels, labelled))) {
+      throw std::runtime_error("cannot write " + image + " into " + opt.out_dir);
+    }
+    std::ofstream xml(out / "annotations" / (std::string(id) + ".xml"));
+    xml << sim::vocAnnotation(image, bgr.size(), pair.ground_truth, labelled, 400);
+    if (!xml) throw std::runtime_error(std::string("cannot write annotations/") + id + ".xml into " + opt.out_dir);
+    std::cout << id << ": " << labelled.size() << " labelled object(s)" << std::endl;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,6 +153,10 @@ int main(int argc, char** argv) {
     return error.empty() ? 0 : 2;
   }
   try {
+    if (opt.random > 0) {
+      writeTrainingData(opt);
+      return 0;
+    }
     const sim::Renderer renderer(sim::loadSceneFile(opt.scene));
     const StereoCalibration& calib = renderer.calibration();
     rosbag::Bag bag;

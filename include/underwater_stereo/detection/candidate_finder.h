@@ -8,12 +8,14 @@
 #include <vector>
 
 #include "underwater_stereo/detection/colour_segmenter.h"
+#include "underwater_stereo/detection/water_contrast.h"
 
 namespace underwater_stereo {
 
 enum class ContourSource {
   kColourMask,     ///< contours of each colour mask (default: edges follow the colour)
   kGreyThreshold,  ///< the paper: grey, Gaussian blur, threshold, contours kept if they carry the colour
+  kLearned,        ///< regions standing out from the water, named by a learnt model (learned_candidates.h)
 };
 
 enum class ThresholdMode { kOtsu, kFixed };
@@ -46,7 +48,13 @@ struct Candidate {
   /// (s1^2 + s2^2) of an Otsu split of its (blurred) grey levels. A box shows faces of flat, different
   /// shading (tens to hundreds); a sphere or cylinder a smooth gradient and a panel one level (a few).
   double face_contrast = 0.0;
+  /// kLearned only: the saliency and level the region was cut at (the right frame is cut alike).
+  SaliencyKind saliency_kind = SaliencyKind::kChroma;
+  double saliency_level = 0.0;
 };
+
+/// Fisher ratio of an Otsu split of the grey levels of `bgr_roi` under `mask` (Candidate::face_contrast).
+double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask);
 
 /// Classifies a closed contour: "circle", "ellipse", "triangle", "rectangle" or "polygon".
 /// @throw std::invalid_argument with fewer than 3 points.

@@ -24,6 +24,9 @@ struct ColourClass {
   /// more red than the far water does), while a red object is brighter than the water: 1.1 for red tells them
   /// apart.
   double min_contrast = 0.0;
+  /// [m] an object of this colour measures at least / at most this across its largest side; 0 = no limit.
+  double min_size_m = 0.0;
+  double max_size_m = 0.0;
 
   /// Whether hue `h` (0-179) lies in [hue_min, hue_max], through 0 when the range wraps.
   bool admitsHue(int h) const { return hue_min <= hue_max ? (h >= hue_min && h <= hue_max) : (h >= hue_min || h <= hue_max); }

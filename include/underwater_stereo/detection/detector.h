@@ -12,7 +12,7 @@
 
 #include "underwater_stereo/detection/detector_config.h"
 #include "underwater_stereo/detection/raw_frame.h"
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
 
@@ -44,6 +44,9 @@ struct StageTimings {
 struct DetectionResult {
   QualityReport quality;
   std::vector<Detection> objects;
+  /// Regions looked at and not reported, with why (learned colours: colour too uncertain; any source: too
+  /// few 3D points, wrong metric size for its colour...).
+  std::vector<Rejection> rejected;
   StageTimings timings;
 };
 
@@ -65,12 +68,18 @@ class Detector {
   /// @throw std::invalid_argument when `frame` is empty.
   DetectionResult detect2d(const RawFrame& frame) const;
 
+  /// The regions the learned colour search weighs in `frame` (full-resolution pixels; contours and masks
+  /// stay in the searched image's), with the features a colour model names them from: what learn_colours
+  /// trains on. Empty for a spoiled frame. @throw std::invalid_argument when `frame` is empty.
+  std::vector<BlobProposal> proposals(const RawFrame& frame) const;
+
   const DetectorConfig& config() const { return config_; }
 
  private:
   /// Stereo, clustering and shape of one candidate.
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
-                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t) const;
+                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t,
+                                   Rejection& rejected) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)

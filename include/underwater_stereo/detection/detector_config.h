@@ -9,6 +9,7 @@
 #include "underwater_stereo/detection/colour_segmenter.h"
 #include "underwater_stereo/detection/dbscan.h"
 #include "underwater_stereo/detection/image_quality.h"
+#include "underwater_stereo/detection/learned_candidates.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
 #include "underwater_stereo/detection/shape_fitter.h"
 
@@ -22,6 +23,7 @@ struct DetectorConfig {
   QualityConfig quality;
   ColourMaskConfig colours;
   CandidateConfig candidates;
+  LearnedColourConfig learned;  ///< the `colour_model` section; used when candidates.source is learned
   StereoMatchConfig stereo;
   ClusterConfig cluster;
   ShapeFitConfig shape;
@@ -36,8 +38,10 @@ struct DetectorConfig {
 };
 
 /// Parses the detector configuration (keys as in config/detector.yaml; missing keys keep their defaults).
-/// @throw std::invalid_argument listing every problem (unknown keys, wrong types, invalid values).
-DetectorConfig parseDetectorConfig(const YAML::Node& root);
+/// A relative colour_model.file is found in `base_dir` (the config file's folder; empty: the working folder).
+/// @throw std::invalid_argument listing every problem (unknown keys, wrong types, invalid values, a colour
+/// model that cannot be read or lacks a designated colour).
+DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& base_dir = "");
 /// @throw std::invalid_argument when the file cannot be read or is invalid.
 DetectorConfig loadDetectorConfigFile(const std::string& path);
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/raw_frame.h"
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
 

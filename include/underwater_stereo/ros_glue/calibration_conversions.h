@@ -4,7 +4,7 @@
 
 #include <sensor_msgs/CameraInfo.h>
 
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
 namespace ros_glue {

@@ -34,11 +34,18 @@ class Renderer {
   /// (time, index) gives the same images.
   RenderedPair render(double time_s, std::uint64_t frame_index) const;
 
+  /// A renderer of `scene` that shares this one's pixel rays (the costly part of construction), for many
+  /// scenes seen by one head. @throw std::invalid_argument when scene.rig differs from this renderer's or
+  /// the scene does not validate.
+  Renderer withScene(Scene scene) const;
+
   const Scene& scene() const { return scene_; }
   const StereoRig& rig() const { return rig_; }
   const StereoCalibration& calibration() const { return rig_.calibration(); }
 
  private:
+  Renderer(Scene scene, const Renderer& rays_from);
+
   Scene scene_;
   StereoRig rig_;
   cv::Mat left_rays_;   ///< CV_32FC3 unit ray per pixel in the left optical frame

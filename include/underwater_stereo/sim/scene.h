@@ -44,9 +44,16 @@ struct WaterConfig {
 };
 
 struct LightConfig {
-  Eigen::Vector3d downwelling{0.55, 0.85, 0.9};  ///< irradiance from the surface on an upward-facing surface
-  double ambient = 0.35;                         ///< fraction of downwelling light reaching downward faces
+  Eigen::Vector3d downwelling{0.55, 0.85, 0.9};  ///< irradiance from the surface on a surface facing the sun
+  double ambient = 0.35;                         ///< fraction of downwelling light reaching faces turned away
+  /// Direction the sunlight travels in the world frame (y down): (0, 1, 0) straight down. Normalised on use.
+  Eigen::Vector3d sun_direction{0.0, 1.0, 0.0};
+  /// 0..1: how strongly the wavy surface focuses sunlight into a moving web of caustics on surfaces
+  /// facing the sun (0: none; 1: between dark gaps and bright lines, mean unchanged).
+  double caustics = 0.0;
+  double caustics_scale_m = 0.25;                ///< [m] size of a caustic cell on a surface
   double lamp_intensity = 0.6;                   ///< vehicle lamp at the head, irradiance at 1 m (falls off as 1/d^2)
+  Eigen::Vector3d lamp_colour{1.0, 1.0, 1.0};    ///< relative r, g, b of the lamp
   double exposure = 1.0;                         ///< global gain: from very dark (0.1) to washed out (4)
 };
 
@@ -63,6 +70,7 @@ struct SensorConfig {
   double noise_sigma = 2.0;              ///< [DN] Gaussian read noise on the 8-bit image
   double blur_sigma_px = 0.0;            ///< [px] optical blur (0: none)
   double gamma = 2.2;                    ///< encoding gamma applied to linear radiance
+  Eigen::Vector3d white_balance{1.0, 1.0, 1.0};  ///< r, g, b gains on linear radiance before gamma (camera white balance)
   unsigned seed = 1;                     ///< noise seed (a frame's noise also depends on its index)
 };
 
@@ -85,6 +93,8 @@ struct SceneObject {
   std::string colour;                                      ///< designated colour class, e.g. "red"
   Eigen::Vector3d albedo{0.8, 0.1, 0.1};                   ///< linear RGB reflectance 0..1
   double texture = 0.15;                                   ///< 0..1 relative albedo variation (dirt, print)
+  double specular = 0.0;                                   ///< 0..1 white specular reflectance (gloss paint)
+  double shininess = 40.0;                                 ///< Blinn-Phong exponent: 5 (satin) .. 500 (mirror-like)
   Eigen::Vector3d position_m = Eigen::Vector3d(0, 0, 2);   ///< [m] centre at time 0, world frame
   Eigen::Vector3d rpy_deg = Eigen::Vector3d::Zero();       ///< [deg] orientation (roll x, pitch y, yaw z)
   /// [m] sphere: (d, d, d); cylinder: (d, d, length along the local z axis); box: edges along local x, y, z;

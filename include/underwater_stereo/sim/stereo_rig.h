@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 #include "underwater_stereo/sim/scene.h"
 
 namespace underwater_stereo {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
 

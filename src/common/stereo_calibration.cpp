@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "underwater_stereo/detection/stereo_calibration.h"
+#include "underwater_stereo/common/stereo_calibration.h"
 
 #include <cmath>
 
-#include "underwater_stereo/detection/image_checks.h"
+#include "underwater_stereo/common/image_size.h"
 
 namespace underwater_stereo {
 namespace {

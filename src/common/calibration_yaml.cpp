@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-#include "underwater_stereo/detection/calibration_yaml.h"
+#include "underwater_stereo/common/calibration_yaml.h"
 
 #include <stdexcept>
 #include <vector>

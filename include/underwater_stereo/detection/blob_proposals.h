@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Regions that stand out from the water, at several levels of saliency, each with the numbers a
+/// learnt model names its colour from (or rejects it as water, floor, wall...).
+
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/water_contrast.h"
+
+namespace underwater_stereo {
+
+struct ProposalConfig {
+  /// Saliency levels (in the frame's own spreads, WaterContrast) at which regions are cut, low to high: a
+  /// faint distant buoy shows at the low ones, a near one separates from the floor at the high ones.
+  std::vector<double> levels{8, 16, 32, 64};
+  double min_area_px = 12;   ///< searched-image pixels; smaller regions are not proposed
+  double max_area_px = 1e6;  ///< larger regions are not proposed
+  int max_proposals = 400;   ///< per frame, the most salient kept
+
+  std::vector<std::string> validate() const;
+};
+
+/// One proposed region, in the searched image's pixels.
+struct BlobProposal {
+  std::vector<cv::Point> contour;
+  cv::Rect roi;
+  cv::Mat mask;   ///< CV_8UC1 roi-sized, 255 inside
+  double area_px = 0;
+  SaliencyKind kind = SaliencyKind::kChroma;  ///< the saliency it was cut from
+  double level = 0;                           ///< and at which level
+  std::vector<float> features;                ///< kBlobFeatureCount values, blobFeatureNames() order
+};
+
+/// Number and names of the features of a proposal, in order (stored with a learnt model to check it).
+constexpr int kBlobFeatureCount = 27;
+const std::vector<std::string>& blobFeatureNames();
+
+/// Regions of `bgr` (the searched image, 8-bit BGR) measured by `contrast` (measureWaterContrast of it).
+/// @throw std::invalid_argument when the sizes differ, the image is not CV_8UC3 or the config is invalid.
+std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config);
+
+/// The mask (CV_8UC1 0/255, of `contrast`'s size) of the pixels a proposal of this kind and level is cut from.
+cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Learning the designated colours from labelled frames (learn_colours): Pascal VOC labels, samples
+/// from the detector's own proposals, k-fold cross-validation by frame.
+
+#include <opencv2/core.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/colour_model.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/detector_config.h"
+
+namespace underwater_stereo {
+
+/// One labelled box of a frame.
+struct LabelBox {
+  std::string name;  ///< the label as written (buoy_red)
+  cv::Rect box;      ///< image pixels
+};
+
+/// The `<object>`s of a Pascal VOC annotation file. @throw std::invalid_argument naming the file (and the
+/// object's number and name) when it cannot be read, is not VOC XML, or a box is empty or not a number.
+std::vector<LabelBox> readVocLabels(const std::string& path);
+
+/// A frame to learn from: its image and labels.
+struct LabelledFrame {
+  std::string name;   ///< for messages (the image's path)
+  cv::Mat image;      ///< 8-bit BGR
+  std::vector<LabelBox> labels;
+};
+
+struct LearningOptions {
+  std::vector<std::string> colours;             ///< colours to learn (designated colour names)
+  std::vector<std::string> background_labels;   ///< other label names, learnt as background
+  /// Labelled objects shorter than this [px] lie beyond the working range: neither targets nor background.
+  int min_label_px = 15;
+  ColourModelTraining training;
+
+  std::vector<std::string> validate() const;
+};
+
+/// The colour index (into options.colours) a label teaches: its name, or the part after its last '_'
+/// (buoy_red -> red); -1 for a background label. @throw std::invalid_argument for any other name.
+int colourOfLabel(const std::string& name, const LearningOptions& options);
+
+/// Checks every frame's labels (colour or background name, box inside the image) and that every colour has
+/// an example. @throw std::invalid_argument listing every problem with file and box.
+void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
+
+/// Training rows of one frame: the detector's proposals with their features and label (-1 background,
+/// k colour k); proposals that half-overlap a labelled object, or overlap a too-small one, are left out.
+struct FrameSamples {
+  cv::Mat features;          ///< CV_32F, one row per sample
+  std::vector<int> labels;
+};
+FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options);
+
+/// Recall, false detections and confusions of a config on held-out frames.
+struct LearningScore {
+  std::vector<int> labelled, found;  ///< per colour (labels >= min_label_px)
+  int frames = 0;
+  int false_detections = 0;          ///< detections matching no label of their colour (nor a small one)
+  /// confusion[true colour][detected colour]; the last column counts missed labels.
+  std::vector<std::vector<int>> confusion;
+  void add(const LearningScore& other);
+  double recall() const;
+};
+/// Runs `detector` (2D) on `frames` and scores it: a label is found when a detection of its colour has its
+/// box centre inside the label's box.
+LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options);
+
+/// `base` with candidates.source learned and `model` (loaded from `model_file`), colours = options.colours
+/// (the base's entries kept for colours it has).
+DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
+                             std::shared_ptr<const ColourModel> model, const LearningOptions& options);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file A learnt model that names a proposed region's colour, or rejects it as background.
+///
+/// OpenCV's random trees (cv::ml::RTrees) over the features of blob_proposals.h, trained by learn_colours from
+/// labelled frames (real footage or the simulator's ground truth). Chosen over a hand-made rule set because
+/// the features that separate a buoy from the floor, the walls and the water differ from pool to pool; over
+/// boosting and SVMs because a forest gives per-class votes (a confidence) in one pass, needs no feature
+/// scaling and predicts a few hundred regions per frame in well under a millisecond.
+
+#include <opencv2/core.hpp>
+#include <opencv2/ml.hpp>
+
+#include <string>
+#include <vector>
+
+namespace underwater_stereo {
+
+struct ColourVerdict {
+  int colour = -1;          ///< index into ColourModel::colours(), -1 = background
+  double confidence = 0.0;  ///< share of the trees voting for the best colour (0-1)
+};
+
+struct ColourModelTraining {
+  int trees = 100;
+  int max_depth = 10;
+  /// Colour classes are rarer than background; each is weighted by (background count / its count)^balance.
+  double balance = 0.6;
+  int seed = 1;
+
+  std::vector<std::string> validate() const;
+};
+
+class ColourModel {
+ public:
+  ColourModel() = default;
+  /// Trains on `samples` (CV_32F, one row of kBlobFeatureCount features per region) with `labels` (-1:
+  /// background, k: colours[k]). @throw std::invalid_argument on mismatched sizes, a colour without any sample,
+  /// or no background sample.
+  static ColourModel train(const cv::Mat& samples, const std::vector<int>& labels, const std::vector<std::string>& colours,
+                           const ColourModelTraining& options);
+  /// @throw std::invalid_argument naming the file when it cannot be read or is not a model of these features.
+  static ColourModel load(const std::string& path);
+  /// @throw std::runtime_error naming the file when it cannot be written.
+  void save(const std::string& path) const;
+
+  bool empty() const { return forest_.empty(); }
+  const std::vector<std::string>& colours() const { return colours_; }
+  /// The best colour of a region and the share of trees voting for it (-1 when no tree votes for any colour).
+  /// @throw std::invalid_argument when features has the wrong length or the model is empty.
+  ColourVerdict classify(const std::vector<float>& features) const;
+
+ private:
+  std::vector<std::string> colours_;
+  cv::Ptr<cv::ml::RTrees> forest_;
+};
+
+}  // namespace underwater_stereo

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Step 3 with a learnt colour model: regions that stand out from the water, named by the model,
+/// verified, overlapping proposals of one object merged.
+
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/blob_proposals.h"
+#include "underwater_stereo/detection/candidate_finder.h"
+#include "underwater_stereo/detection/colour_model.h"
+#include "underwater_stereo/detection/colour_segmenter.h"
+#include "underwater_stereo/detection/water_contrast.h"
+
+namespace underwater_stereo {
+
+/// The `colour_model` section of the detector configuration (candidates.source: learned).
+struct LearnedColourConfig {
+  std::string file;             ///< the model's file (learn_colours writes it), resolved against the config's folder
+  double min_confidence = 0.3;  ///< share of trees that must vote for a colour
+  /// A proposal overlapping a more confident one by more than this share of the smaller box is the same object.
+  double max_overlap = 0.3;
+  WaterContrastConfig water;
+  ProposalConfig proposals;     ///< areas in full-resolution pixels, like candidates.min_area_px
+  std::shared_ptr<const ColourModel> model;  ///< loaded from `file`
+
+  std::vector<std::string> validate() const;
+};
+
+/// A region the detector looked at and did not report, with why (detect_files --explain, diagnostics).
+struct Rejection {
+  cv::Rect roi;          ///< raw image pixels
+  std::string colour;    ///< the colour it was taken for (empty: none)
+  double confidence = 0;
+  std::string reason;
+};
+
+struct LearnedSearch {
+  WaterContrast contrast;  ///< of the searched image (its stats measure the right frame alike)
+  std::vector<Candidate> candidates;  ///< most confident first, at most candidates.max_candidates
+  std::vector<Rejection> rejected;    ///< proposals some colour got votes for, not reported (searched-image pixels)
+};
+
+/// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
+/// colours, by name). @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
+LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
+                                    const LearnedColourConfig& config, const CandidateConfig& candidates);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file How each pixel stands out from the water around it.
+///
+/// Through water a camera sees I = J t + B (1 - t) per channel (t = e^(-b d)): the object's own colour J
+/// fades towards the water's veiling colour B with range. Whatever the water, an object differs from the
+/// water around it in a direction set by its own colour; the magnitude shrinks with range. So the detector
+/// does not look for fixed hues: it measures, per pixel, the log ratio of the pixel to the local water colour
+/// (B estimated per frame as a heavily smoothed median of the image, objects being small against it), and
+/// how unusual that ratio is in this frame (normalised by the frame's own spread, so clear and turbid water,
+/// bright and dim frames give comparable numbers).
+
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+namespace underwater_stereo {
+
+struct WaterContrastConfig {
+  /// The water colour is the median over windows of about 5 / background_scale pixels of the searched image:
+  /// much larger than the objects looked for (0.03: a 160-px window on a 640-px wide image).
+  double background_scale = 1.0 / 32.0;
+  /// Offset added to pixel and water values before their ratio (keeps the dark noise floor from exploding).
+  double ratio_offset = 4.0;
+
+  std::vector<std::string> validate() const;
+};
+
+/// A frame's spread of contrast, per saliency kind: median and median absolute deviation per channel.
+struct ContrastStats {
+  cv::Vec3f median[2];
+  cv::Vec3f spread[2];  ///< MAD, floored at 1e-3
+};
+
+/// Index of the saliency maps in WaterContrast::saliency.
+enum class SaliencyKind { kChroma = 0, kFull = 1 };
+
+struct WaterContrast {
+  cv::Mat water;        ///< CV_8UC3: the local water colour (B, G, R) per pixel
+  cv::Mat contrast;     ///< CV_32FC3: log((I + o) / (B + o)) per channel
+  cv::Mat chroma;       ///< CV_32FC3: contrast minus its mean over the channels (brightness removed)
+  cv::Mat saliency[2];  ///< CV_32FC1: |(x - median) / spread| over the channels, x = chroma (kChroma) or contrast (kFull)
+  ContrastStats stats;
+};
+
+/// Measures `bgr` (8-bit BGR) against its own water and spread.
+/// @throw std::invalid_argument when `bgr` is empty or not CV_8UC3, or the config is invalid.
+WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig& config);
+
+/// Measures `bgr` against a given water colour (CV_8UC3 of its size) and spread: a part of the right frame
+/// measured exactly like the left (both cameras look in the same direction through the same water, so the
+/// water colour at a pixel is the same in both).
+/// @throw std::invalid_argument on empty or mismatched images or an invalid config.
+WaterContrast contrastAgainst(const cv::Mat& bgr, const cv::Mat& water, const ContrastStats& stats,
+                              const WaterContrastConfig& config);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,277 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/colour_learning.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/detector.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// A proposal is an example of a labelled object when their boxes overlap by this much (intersection over
+/// union); between kIgnoreIou and this it is part of an object or the object with its surroundings: neither.
+constexpr double kMatchIou = 0.3;
+constexpr double kIgnoreIou = 0.05;
+
+/// The text between `<tag>` and `</tag>` in xml[from, to), and where the closing tag ends; false if absent.
+bool element(const std::string& xml, const std::string& tag, std::size_t from, std::size_t to, std::string& content,
+             std::size_t& end) {
+  const std::string open = "<" + tag + ">", close = "</" + tag + ">";
+  const std::size_t a = xml.find(open, from);
+  if (a == std::string::npos || a >= to) return false;
+  const std::size_t b = xml.find(close, a + open.size());
+  if (b == std::string::npos || b + close.size() > to) throw std::invalid_argument("<" + tag + "> is not closed");
+  content = xml.substr(a + open.size(), b - a - open.size());
+  end = b + close.size();
+  return true;
+}
+
+std::string trimmed(const std::string& s) {
+  const std::size_t a = s.find_first_not_of(" \t\r\n"), b = s.find_last_not_of(" \t\r\n");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+double iou(const cv::Rect& a, const cv::Rect& b) {
+  const double inter = (a & b).area();
+  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
+}
+
+std::string boxText(const cv::Rect& r) {
+  return "[" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.br().x) + ", " +
+         std::to_string(r.br().y) + "]";
+}
+
+}  // namespace
+
+std::vector<LabelBox> readVocLabels(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot be read");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string xml = text.str();
+  if (xml.find("<annotation") == std::string::npos) {
+    throw std::invalid_argument(path + ": not a Pascal VOC annotation (no <annotation> element)");
+  }
+  std::vector<LabelBox> out;
+  std::size_t pos = 0;
+  std::string object;
+  int index = 0;
+  try {
+    for (std::size_t end = 0; element(xml, "object", pos, xml.size(), object, end); pos = end, ++index) {
+      LabelBox label;
+      std::string field, box;
+      std::size_t e = 0;
+      const std::string where = path + ": object " + std::to_string(index);
+      if (!element(object, "name", 0, object.size(), field, e) || trimmed(field).empty()) {
+        throw std::invalid_argument(where + " has no <name>");
+      }
+      label.name = trimmed(field);
+      if (!element(object, "bndbox", 0, object.size(), box, e)) {
+        throw std::invalid_argument(where + " (" + label.name + ") has no <bndbox>");
+      }
+      double v[4];
+      const char* keys[4] = {"xmin", "ymin", "xmax", "ymax"};
+      for (int k = 0; k < 4; ++k) {
+        if (!element(box, keys[k], 0, box.size(), field, e)) {
+          throw std::invalid_argument(where + " (" + label.name + ") has no <" + keys[k] + ">");
+        }
+        std::size_t used = 0;
+        try {
+          v[k] = std::stod(trimmed(field), &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == 0 || used != trimmed(field).size() || !std::isfinite(v[k])) {
+          throw std::invalid_argument(where + " (" + label.name + "): <" + keys[k] + "> '" + trimmed(field) +
+                                      "' is not a number");
+        }
+      }
+      if (!(v[2] > v[0] && v[3] > v[1])) {
+        throw std::invalid_argument(where + " (" + label.name + "): empty box [" + std::to_string(v[0]) + ", " +
+                                    std::to_string(v[1]) + ", " + std::to_string(v[2]) + ", " + std::to_string(v[3]) + "]");
+      }
+      const int x0 = static_cast<int>(std::floor(v[0])), y0 = static_cast<int>(std::floor(v[1]));
+      label.box = cv::Rect(x0, y0, std::max(1, static_cast<int>(std::ceil(v[2])) - x0),
+                           std::max(1, static_cast<int>(std::ceil(v[3])) - y0));
+      out.push_back(label);
+    }
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    throw std::invalid_argument(message.rfind(path, 0) == 0 ? message : path + ": unreadable XML: " + message);
+  }
+  return out;
+}
+
+std::vector<std::string> LearningOptions::validate() const {
+  std::vector<std::string> p = training.validate();
+  if (colours.empty()) p.push_back("no colours to learn");
+  if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
+  return p;
+}
+
+int colourOfLabel(const std::string& name, const LearningOptions& options) {
+  const std::size_t underscore = name.find_last_of('_');
+  const std::string suffix = underscore == std::string::npos ? name : name.substr(underscore + 1);
+  for (std::size_t k = 0; k < options.colours.size(); ++k) {
+    if (name == options.colours[k] || suffix == options.colours[k]) return static_cast<int>(k);
+  }
+  if (std::find(options.background_labels.begin(), options.background_labels.end(), name) != options.background_labels.end()) {
+    return -1;
+  }
+  std::string known;
+  for (const auto& c : options.colours) known += (known.empty() ? "" : ", ") + c;
+  throw std::invalid_argument("label '" + name + "' names no designated colour (" + known +
+                              "); learn it as background with --background " + name + ", or add its colour");
+}
+
+void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+  std::vector<std::string> problems = options.validate();
+  std::vector<int> examples(options.colours.size(), 0);
+  for (const LabelledFrame& f : frames) {
+    if (f.image.empty() || f.image.type() != CV_8UC3) {
+      problems.push_back(f.name + ": not an 8-bit colour image");
+      continue;
+    }
+    const cv::Rect image(0, 0, f.image.cols, f.image.rows);
+    for (std::size_t i = 0; i < f.labels.size(); ++i) {
+      const LabelBox& l = f.labels[i];
+      const std::string where = f.name + ": box " + std::to_string(i) + " (" + l.name + ") " + boxText(l.box);
+      try {
+        const int colour = colourOfLabel(l.name, options);
+        if (colour >= 0) ++examples[colour];
+      } catch (const std::invalid_argument& e) {
+        problems.push_back(where + ": " + e.what());
+      }
+      if ((l.box & image).area() < l.box.area()) {
+        problems.push_back(where + ": outside the " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                           " image");
+      }
+    }
+  }
+  for (std::size_t k = 0; k < options.colours.size(); ++k) {
+    if (examples[k] == 0) {
+      problems.push_back("colour '" + options.colours[k] + "': no labelled example in " + std::to_string(frames.size()) +
+                         " frames (label some, or leave it out with --colours)");
+    }
+  }
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("bad labels", problems));
+}
+
+FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options) {
+  FrameSamples out;
+  std::vector<float> row;
+  for (const BlobProposal& b : proposer.proposals(RawFrame(frame.image))) {
+    int label = -1;
+    bool ignore = false;
+    for (const LabelBox& l : frame.labels) {
+      const int colour = colourOfLabel(l.name, options);
+      const double overlap = iou(b.roi, l.box);
+      if (colour < 0 || overlap <= kIgnoreIou) continue;
+      if (l.box.height < options.min_label_px || overlap < kMatchIou) {
+        ignore = true;
+      } else {
+        label = colour;
+      }
+    }
+    if (ignore && label < 0) continue;
+    out.features.push_back(cv::Mat(1, static_cast<int>(b.features.size()), CV_32F, const_cast<float*>(b.features.data())));
+    out.labels.push_back(label);
+  }
+  return out;
+}
+
+void LearningScore::add(const LearningScore& o) {
+  if (labelled.empty()) {
+    *this = o;
+    return;
+  }
+  for (std::size_t k = 0; k < labelled.size(); ++k) {
+    labelled[k] += o.labelled[k];
+    found[k] += o.found[k];
+    for (std::size_t j = 0; j < confusion[k].size(); ++j) confusion[k][j] += o.confusion[k][j];
+  }
+  frames += o.frames;
+  false_detections += o.false_detections;
+}
+
+double LearningScore::recall() const {
+  int l = 0, f = 0;
+  for (std::size_t k = 0; k < labelled.size(); ++k) {
+    l += labelled[k];
+    f += found[k];
+  }
+  return l > 0 ? double(f) / l : 0.0;
+}
+
+LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+  const std::size_t n = options.colours.size();
+  LearningScore s;
+  s.labelled.assign(n, 0);
+  s.found.assign(n, 0);
+  s.confusion.assign(n, std::vector<int>(n + 1, 0));
+  for (const LabelledFrame& f : frames) {
+    ++s.frames;
+    const DetectionResult r = detector.detect2d(RawFrame(f.image));
+    std::vector<bool> used(r.objects.size(), false);
+    auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
+      const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
+      return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
+    };
+    for (const LabelBox& l : f.labels) {
+      const int colour = colourOfLabel(l.name, options);
+      if (colour < 0) continue;
+      int hit = -1, other = -1;
+      for (std::size_t i = 0; i < r.objects.size(); ++i) {
+        if (used[i] || !centreIn(r.objects[i].roi, l.box)) continue;
+        if (r.objects[i].colour == options.colours[colour]) {
+          hit = static_cast<int>(i);
+          break;
+        }
+        if (other < 0) other = static_cast<int>(i);
+      }
+      const bool counted = l.box.height >= options.min_label_px;
+      if (hit >= 0) used[hit] = true;
+      if (!counted) {
+        if (other >= 0) used[other] = true;  // a far object found: neither target nor false
+        continue;
+      }
+      ++s.labelled[colour];
+      if (hit >= 0) {
+        ++s.found[colour];
+        ++s.confusion[colour][colour];
+      } else if (other >= 0) {
+        const auto it = std::find(options.colours.begin(), options.colours.end(), r.objects[other].colour);
+        if (it != options.colours.end()) ++s.confusion[colour][it - options.colours.begin()];
+      } else {
+        ++s.confusion[colour][n];
+      }
+    }
+    for (std::size_t i = 0; i < r.objects.size(); ++i) s.false_detections += used[i] ? 0 : 1;
+  }
+  return s;
+}
+
+DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
+                             std::shared_ptr<const ColourModel> model, const LearningOptions& options) {
+  DetectorConfig c = base;
+  c.candidates.source = ContourSource::kLearned;
+  c.learned.file = model_file;
+  c.learned.model = std::move(model);
+  c.colours.classes.clear();
+  for (const std::string& name : options.colours) {
+    const auto it = std::find_if(base.colours.classes.begin(), base.colours.classes.end(),
+                                 [&](const ColourClass& k) { return k.name == name; });
+    ColourClass k;
+    if (it != base.colours.classes.end()) k = *it;
+    k.name = name;
+    c.colours.classes.push_back(k);
+  }
+  return c;
+}
+
+}  // namespace underwater_stereo

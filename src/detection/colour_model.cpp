@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/colour_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include "underwater_stereo/detection/blob_proposals.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// The forest's class label of background; colour k is k + 1.
+constexpr int kBackground = 0;
+
+}  // namespace
+
+std::vector<std::string> ColourModelTraining::validate() const {
+  std::vector<std::string> p;
+  if (trees < 1 || trees > 2000) p.push_back("trees must be in [1, 2000]");
+  if (max_depth < 1 || max_depth > 30) p.push_back("max_depth must be in [1, 30]");
+  if (!(balance >= 0 && balance <= 1)) p.push_back("balance must be in [0, 1]");
+  return p;
+}
+
+ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& labels,
+                               const std::vector<std::string>& colours, const ColourModelTraining& options) {
+  const auto problems = options.validate();
+  if (!problems.empty()) throw std::invalid_argument("ColourModel::train: " + problems.front());
+  if (samples.type() != CV_32FC1 || samples.cols != kBlobFeatureCount || samples.rows != static_cast<int>(labels.size())) {
+    throw std::invalid_argument("ColourModel::train: need one CV_32F row of " + std::to_string(kBlobFeatureCount) +
+                                " features per label");
+  }
+  if (colours.empty()) throw std::invalid_argument("ColourModel::train: no colours to learn");
+  std::vector<int> counts(colours.size() + 1, 0);
+  cv::Mat responses(samples.rows, 1, CV_32SC1);
+  for (int i = 0; i < samples.rows; ++i) {
+    const int l = labels[i];
+    if (l < -1 || l >= static_cast<int>(colours.size())) throw std::invalid_argument("ColourModel::train: label out of range");
+    responses.at<int>(i) = l + 1;
+    ++counts[l + 1];
+  }
+  if (counts[kBackground] == 0) throw std::invalid_argument("ColourModel::train: no background samples");
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    if (counts[k + 1] == 0) throw std::invalid_argument("ColourModel::train: no samples of colour '" + colours[k] + "'");
+  }
+  cv::Mat priors(1, static_cast<int>(counts.size()), CV_32F);
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    priors.at<float>(static_cast<int>(k)) =
+        static_cast<float>(std::pow(double(counts[kBackground]) / counts[k], options.balance));
+  }
+  cv::theRNG().state = static_cast<std::uint64_t>(options.seed);
+  ColourModel m;
+  m.colours_ = colours;
+  m.forest_ = cv::ml::RTrees::create();
+  m.forest_->setMaxDepth(options.max_depth);
+  m.forest_->setMinSampleCount(2);
+  m.forest_->setPriors(priors);
+  m.forest_->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, options.trees, 0));
+  m.forest_->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
+  return m;
+}
+
+ColourModel ColourModel::load(const std::string& path) {
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& e) {
+    throw std::invalid_argument("colour model " + path + ": unreadable (" + e.msg + ")");
+  }
+  if (!fs.isOpened()) throw std::invalid_argument("colour model " + path + ": cannot be opened");
+  ColourModel m;
+  std::vector<std::string> features;
+  try {
+    fs["colours"] >> m.colours_;
+    fs["features"] >> features;
+    if (features != blobFeatureNames()) {
+      throw std::invalid_argument("colour model " + path + ": made for other features (" + std::to_string(features.size()) +
+                                  " named; this build computes " + std::to_string(kBlobFeatureCount) + "): learn it again");
+    }
+    if (m.colours_.empty()) throw std::invalid_argument("colour model " + path + ": names no colours");
+    m.forest_ = cv::ml::RTrees::create();
+    m.forest_->read(fs["forest"]);
+  } catch (const cv::Exception& e) {
+    throw std::invalid_argument("colour model " + path + ": invalid (" + e.msg + ")");
+  }
+  if (!m.forest_->isTrained() || m.forest_->getVarCount() != kBlobFeatureCount) {
+    throw std::invalid_argument("colour model " + path + ": holds no trained forest of " +
+                                std::to_string(kBlobFeatureCount) + " features");
+  }
+  return m;
+}
+
+void ColourModel::save(const std::string& path) const {
+  if (empty()) throw std::runtime_error("ColourModel::save: empty model");
+  cv::FileStorage fs(path, cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw std::runtime_error("colour model " + path + ": cannot be written");
+  fs << "colours" << colours_;
+  fs << "features" << blobFeatureNames();
+  fs << "forest" << "{";
+  forest_->write(fs);
+  fs << "}";
+}
+
+ColourVerdict ColourModel::classify(const std::vector<float>& features) const {
+  if (empty()) throw std::invalid_argument("ColourModel::classify: empty model");
+  if (features.size() != static_cast<std::size_t>(kBlobFeatureCount)) {
+    throw std::invalid_argument("ColourModel::classify: " + std::to_string(features.size()) + " features, need " +
+                                std::to_string(kBlobFeatureCount));
+  }
+  cv::Mat votes;
+  forest_->getVotes(cv::Mat(1, kBlobFeatureCount, CV_32F, const_cast<float*>(features.data())), votes, 0);
+  // Row 0: the class labels; row 1: the votes for each. The best colour is reported with its share even when
+  // background has more votes: the caller's threshold (colour_model.min_confidence) decides.
+  ColourVerdict v;
+  int total = 0, best = 0;
+  for (int j = 0; j < votes.cols; ++j) {
+    const int label = votes.at<int>(0, j), n = votes.at<int>(1, j);
+    total += n;
+    if (label != kBackground && n > best) {
+      best = n;
+      v.colour = label - 1;
+    }
+  }
+  v.confidence = total > 0 ? double(best) / total : 0.0;
+  if (best == 0) v.colour = -1;
+  return v;
+}
+
+}  // namespace underwater_stereo

@@ -1,0 +1,304 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "random_evaluation.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "tool_helpers.h"
+#include "underwater_stereo/detection/image_quality.h"
+
+namespace underwater_stereo {
+namespace tools {
+namespace {
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(6) << v;
+  return s.str();
+}
+
+std::string vec(const Eigen::Vector3d& v) { return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]"; }
+std::string rect(const cv::Rect& r) {
+  return "[" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.width) + ", " +
+         std::to_string(r.height) + "]";
+}
+
+/// Counts and errors of one group of objects (and, for groups of whole pairs, frames and false detections).
+struct Tally {
+  int frames = 0, false_detections = 0, eligible = 0, found = 0, colour_right = 0, shape_eligible = 0, shape_right = 0;
+  std::vector<double> range_err, position_err;
+
+  void add(const ObjectRecord& o) {
+    if (!o.eligible) return;
+    ++eligible;
+    if (!o.found) return;
+    ++found;
+    colour_right += o.detected_colour == o.colour;
+    if (o.visible_pixels >= kMinShapePixels) {
+      ++shape_eligible;
+      shape_right += o.detected_shape == o.shape;
+    }
+    range_err.push_back(o.range_error);
+    position_err.push_back(o.position_error);
+  }
+  void addPair(const PairRecord& p) {
+    ++frames;
+    false_detections += static_cast<int>(p.false_detections.size());
+    for (const auto& o : p.objects) add(o);
+  }
+};
+
+std::string percent(int n, int of) {
+  if (of == 0) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << 100.0 * n / of;
+  return s.str();
+}
+
+std::string percentile100(const std::vector<double>& v, double q) {
+  if (v.empty()) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(2) << 100.0 * percentile(v, q);
+  return s.str();
+}
+
+void printRow(std::ostream& out, const std::string& group, const std::string& bin, const Tally& t) {
+  std::ostringstream fpf;
+  if (t.frames > 0) fpf << std::fixed << std::setprecision(3) << static_cast<double>(t.false_detections) / t.frames;
+  else fpf << "-";
+  out << "| " << group << " | " << bin << " | " << (t.frames > 0 ? std::to_string(t.frames) : "-") << " | "
+      << t.eligible << " | " << percent(t.found, t.eligible) << " | " << percent(t.colour_right, t.found) << " | "
+      << percent(t.shape_right, t.shape_eligible) << " (" << t.shape_eligible << ") | "
+      << percentile100(t.range_err, 0.5) << " | " << percentile100(t.range_err, 0.95) << " | "
+      << percentile100(t.position_err, 0.95) << " | " << fpf.str() << " |\n";
+}
+
+/// Bins of a value by upper edges: "lo-hi" labels.
+std::string binLabel(double value, const std::vector<double>& edges, int precision) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(precision);
+  for (std::size_t i = 1; i < edges.size(); ++i) {
+    if (value < edges[i] || i + 1 == edges.size()) {
+      s << edges[i - 1] << "-" << edges[i];
+      return s.str();
+    }
+  }
+  return "?";
+}
+
+const std::vector<double> kRangeEdges{0.5, 1, 2, 3, 4, 5};
+const std::vector<double> kTurbidityEdges{0, 0.25, 0.5, 0.75, 1};
+const std::vector<double> kLumaEdges{0, 40, 80, 120, 160, 200, 255};
+
+std::string waterName(double water_type) {
+  return water_type < 0.5 ? "blue" : water_type < 1.5 ? "green" : "brown";
+}
+
+/// Objects grouped by `key`, in the order the keys sort.
+void printObjectGroup(std::ostream& out, const std::string& group, const std::vector<PairRecord>& pairs,
+                      const std::function<std::string(const ObjectRecord&)>& key) {
+  std::map<std::string, Tally> bins;
+  for (const auto& p : pairs) {
+    for (const auto& o : p.objects) {
+      if (o.eligible) bins[key(o)].add(o);
+    }
+  }
+  for (const auto& [bin, t] : bins) printRow(out, group, bin, t);
+}
+
+/// Whole pairs grouped by `key` (their false detections count too).
+void printPairGroup(std::ostream& out, const std::string& group, const std::vector<PairRecord>& pairs,
+                    const std::function<std::string(const PairRecord&)>& key) {
+  std::map<std::string, Tally> bins;
+  for (const auto& p : pairs) bins[key(p)].addPair(p);
+  for (const auto& [bin, t] : bins) printRow(out, group, bin, t);
+}
+
+/// Failure rank of an eligible object: higher is worse.
+double severity(const ObjectRecord& o) {
+  const double size = std::min(1.0, o.visible_pixels / 1e6);  // of two misses, the bigger object is worse
+  if (!o.found) return 4.0 + size;
+  if (o.detected_colour != o.colour) return 3.0 + size;
+  if (o.visible_pixels >= kMinShapePixels && o.detected_shape != o.shape) return 2.0 + size;
+  return std::min(1.0, o.range_error);
+}
+
+}  // namespace
+
+PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
+                        double luma) {
+  PairRecord rec;
+  rec.seed = sampled.seed;
+  rec.turbidity = sampled.turbidity;
+  rec.water_type = sampled.water_type;
+  rec.target_luma = sampled.target_luma;
+  rec.luma = luma;
+  rec.quality = qualityStatusName(result.quality.status);
+  rec.detect_ms = result.timings.total_ms;
+  const cv::Size size = pair.left_labels.size();
+  const Eigen::Vector3d attenuation = sampled.scene.water.attenuation_per_m;
+  for (std::size_t i = 0; i < pair.ground_truth.size(); ++i) {
+    const sim::GroundTruthObject& gt = pair.ground_truth[i];
+    ObjectRecord o;
+    o.name = gt.name;
+    o.colour = gt.colour;
+    o.shape = gt.shape;
+    o.designated = i < sampled.designated.size() && sampled.designated[i];
+    o.range_m = gt.range_m;
+    o.visible_pixels = gt.visible_pixels;
+    o.roi = gt.roi_left;
+    o.cut_by_border = gt.visible_pixels > 0 && (o.roi.x == 0 || o.roi.y == 0 || o.roi.br().x == size.width ||
+                                                o.roi.br().y == size.height);
+    o.albedo = gt.albedo;
+    o.size_m = gt.size_m;
+    o.centre_m = gt.centre_left_m;
+    o.transmission = (-attenuation * gt.range_m).array().exp().mean();
+    o.eligible = o.designated && gt.visible_pixels >= kMinVisiblePixels && gt.range_m >= kMinRangeM &&
+                 gt.range_m <= kMaxRangeM;
+    rec.objects.push_back(o);
+  }
+  for (const Detection& d : result.objects) {
+    const cv::Rect box = d.roi & cv::Rect(cv::Point(), size);
+    std::vector<int> counts(rec.objects.size(), 0);
+    for (int v = box.y; v < box.br().y; ++v) {
+      const auto* row = pair.left_labels.ptr<std::uint16_t>(v);
+      for (int u = box.x; u < box.br().x; ++u) {
+        if (row[u] > 0 && row[u] <= counts.size()) ++counts[row[u] - 1];
+      }
+    }
+    int best = -1;
+    for (std::size_t k = 0; k < counts.size(); ++k) {
+      const double needed = 0.2 * std::min<double>(box.area(), rec.objects[k].visible_pixels);
+      if (counts[k] > 0 && counts[k] >= needed && (best < 0 || counts[k] > counts[best])) best = static_cast<int>(k);
+    }
+    if (best >= 0 && rec.objects[best].designated && !rec.objects[best].found) {
+      // The first detection of a designated object; one of an object too small, near or far is no false one.
+      ObjectRecord& o = rec.objects[best];
+      o.found = true;
+      o.detected_colour = d.colour;
+      o.detected_shape = d.shape;
+      o.detected_range_m = d.range_m;
+      o.detected_centre_m = d.position_m;
+      o.detected_roi = d.roi;
+      o.range_error = std::abs(d.range_m - o.range_m) / o.range_m;
+      o.position_error = (d.position_m - o.centre_m).norm() / o.range_m;
+      continue;
+    }
+    rec.false_detections.push_back({d.colour, d.shape, best >= 0 ? rec.objects[best].name : "", d.roi, d.range_m});
+  }
+  return rec;
+}
+
+void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
+  out << "| group | bin | frames | objects | recall % | colour right % | shape right % (n >= " << kMinShapePixels
+      << " px) | range err median % | range err p95 % | position err p95 % (of range) | false/frame |\n"
+         "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  printPairGroup(out, "**all**", pairs, [](const PairRecord&) { return std::string("all"); });
+  printObjectGroup(out, "range m", pairs, [](const ObjectRecord& o) { return binLabel(o.range_m, kRangeEdges, 1); });
+  printPairGroup(out, "turbidity", pairs, [](const PairRecord& p) { return binLabel(p.turbidity, kTurbidityEdges, 2); });
+  printPairGroup(out, "water", pairs, [](const PairRecord& p) { return waterName(p.water_type); });
+  printPairGroup(out, "luma", pairs, [](const PairRecord& p) {
+    std::string label = binLabel(p.luma, kLumaEdges, 0);
+    return std::string(label.size() < 7 ? 7 - label.size() : 0, ' ') + label;  // sorts numerically
+  });
+  printObjectGroup(out, "colour", pairs, [](const ObjectRecord& o) { return o.colour; });
+  printObjectGroup(out, "shape", pairs, [](const ObjectRecord& o) { return o.shape; });
+  printObjectGroup(out, "cut by border", pairs, [](const ObjectRecord& o) { return o.cut_by_border ? "yes" : "no"; });
+}
+
+void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const std::string& config_path) {
+  out << "{\"config\": " << quoted(config_path) << ",\n \"criteria\": {\"min_visible_pixels\": " << kMinVisiblePixels
+      << ", \"min_shape_pixels\": " << kMinShapePixels << ", \"range_m\": [" << kMinRangeM << ", " << kMaxRangeM
+      << "]},\n \"pairs\": [";
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const PairRecord& p = pairs[i];
+    out << (i ? ",\n" : "\n") << "  {\"seed\": " << p.seed << ", \"turbidity\": " << number(p.turbidity)
+        << ", \"water_type\": " << number(p.water_type) << ", \"water\": " << quoted(waterName(p.water_type))
+        << ", \"target_luma\": " << number(p.target_luma) << ", \"luma\": " << number(p.luma)
+        << ", \"quality\": " << quoted(p.quality) << ", \"render_ms\": " << number(p.render_ms)
+        << ", \"detect_ms\": " << number(p.detect_ms) << ",\n   \"objects\": [";
+    for (std::size_t k = 0; k < p.objects.size(); ++k) {
+      const ObjectRecord& o = p.objects[k];
+      out << (k ? ",\n    " : "\n    ") << "{\"name\": " << quoted(o.name) << ", \"colour\": " << quoted(o.colour)
+          << ", \"shape\": " << quoted(o.shape) << ", \"designated\": " << (o.designated ? "true" : "false")
+          << ", \"eligible\": " << (o.eligible ? "true" : "false") << ", \"range_m\": " << number(o.range_m)
+          << ", \"visible_pixels\": " << o.visible_pixels << ", \"cut_by_border\": " << (o.cut_by_border ? "true" : "false")
+          << ", \"roi\": " << rect(o.roi) << ", \"albedo\": " << vec(o.albedo) << ", \"size_m\": " << vec(o.size_m)
+          << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
+          << ", \"found\": " << (o.found ? "true" : "false");
+      if (o.found) {
+        out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour) << ", \"shape\": " << quoted(o.detected_shape)
+            << ", \"range_m\": " << number(o.detected_range_m) << ", \"centre_m\": " << vec(o.detected_centre_m)
+            << ", \"roi\": " << rect(o.detected_roi) << ", \"range_error\": " << number(o.range_error)
+            << ", \"position_error\": " << number(o.position_error) << "}";
+      }
+      out << "}";
+    }
+    out << "],\n   \"false_detections\": [";
+    for (std::size_t k = 0; k < p.false_detections.size(); ++k) {
+      const FalseRecord& f = p.false_detections[k];
+      out << (k ? ", " : "") << "{\"colour\": " << quoted(f.colour) << ", \"shape\": " << quoted(f.shape)
+          << ", \"on\": " << quoted(f.on) << ", \"roi\": " << rect(f.roi) << ", \"range_m\": " << number(f.range_m) << "}";
+    }
+    out << "]}";
+  }
+  out << "\n ]}\n";
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> worstFailures(const std::vector<PairRecord>& pairs, std::size_t k) {
+  std::vector<std::pair<std::size_t, std::size_t>> all;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    for (std::size_t j = 0; j < pairs[i].objects.size(); ++j) {
+      if (pairs[i].objects[j].eligible) all.emplace_back(i, j);
+    }
+  }
+  std::stable_sort(all.begin(), all.end(), [&](const auto& a, const auto& b) {
+    return severity(pairs[a.first].objects[a.second]) > severity(pairs[b.first].objects[b.second]);
+  });
+  // Only failures: an object found with the right colour and shape and within 3 % of range is none.
+  all.erase(std::remove_if(all.begin(), all.end(),
+                           [&](const auto& a) { return severity(pairs[a.first].objects[a.second]) < 0.03; }),
+            all.end());
+  if (all.size() > k) all.resize(k);
+  return all;
+}
+
+cv::Mat failurePicture(const cv::Mat& left_bgr, const PairRecord& pair, const ObjectRecord& object,
+                       const DetectionResult& result) {
+  cv::Mat out = left_bgr.clone();
+  const int thick = std::max(2, out.cols / 640);
+  for (const Detection& d : result.objects) {
+    cv::rectangle(out, d.roi, cv::Scalar(0, 0, 255), thick);
+    cv::putText(out, d.colour + " " + d.shape, d.roi.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX,
+                0.4 * thick, cv::Scalar(0, 0, 255), thick);
+  }
+  cv::rectangle(out, object.roi, cv::Scalar(0, 255, 0), thick);
+  std::ostringstream caption;
+  caption << "seed " << pair.seed << ": " << object.name << " at " << std::fixed << std::setprecision(2) << object.range_m
+          << " m, " << object.visible_pixels << " px: ";
+  if (!object.found) caption << "MISSED";
+  else caption << "seen as " << object.detected_colour << " " << object.detected_shape << " at " << object.detected_range_m << " m";
+  caption << " | turbidity " << pair.turbidity << ", luma " << std::setprecision(0) << pair.luma;
+  cv::putText(out, caption.str(), cv::Point(10, 12 * thick + 10), cv::FONT_HERSHEY_SIMPLEX, 0.45 * thick,
+              cv::Scalar(255, 255, 255), thick);
+  return out;
+}
+
+}  // namespace tools
+}  // namespace underwater_stereo

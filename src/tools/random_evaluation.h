@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// The detector judged on sampled scenes: per-object records against the simulator's exact truth, tables
+// broken down by range, turbidity, brightness, colour and shape, JSON records and pictures of the worst failures.
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene_sampler.h"
+
+namespace underwater_stereo {
+namespace tools {
+
+/// Objects count when of a designated colour, 0.5-5 m away and with >= 400 visible pixels (as in the scene-file
+/// mode); their shape counts from 1500 pixels on.
+constexpr int kMinVisiblePixels = 400, kMinShapePixels = 1500;
+constexpr double kMinRangeM = 0.5, kMaxRangeM = 5.0;
+
+/// One truth object of one pair and what the detector made of it.
+struct ObjectRecord {
+  std::string name, colour, shape;
+  bool designated = false, eligible = false;
+  double range_m = 0.0;
+  int visible_pixels = 0;
+  bool cut_by_border = false;       ///< its pixels touch the image border
+  cv::Rect roi;                     ///< truth box in the raw left image
+  Eigen::Vector3d albedo = Eigen::Vector3d::Zero(), size_m = Eigen::Vector3d::Zero(),
+                  centre_m = Eigen::Vector3d::Zero();
+  double transmission = 0.0;        ///< mean over r, g, b of exp(-attenuation * range): how much water hides it
+  bool found = false;
+  std::string detected_colour, detected_shape;
+  double detected_range_m = 0.0;
+  Eigen::Vector3d detected_centre_m = Eigen::Vector3d::Zero();
+  cv::Rect detected_roi;
+  double range_error = 0.0;         ///< |range - true| / true range (found only)
+  double position_error = 0.0;      ///< |centre - true centre| / true range (found only)
+};
+
+/// A detection that is no eligible designated object (background, a distractor, a second detection of one object).
+struct FalseRecord {
+  std::string colour, shape, on;  ///< on: the truth object it lies on, "" for background
+  cv::Rect roi;
+  double range_m = 0.0;
+};
+
+struct PairRecord {
+  std::uint64_t seed = 0;
+  double turbidity = 0.0, water_type = 0.0, target_luma = 0.0;
+  double luma = 0.0;                ///< mean BT.601 luma of the demosaiced left image
+  std::string quality;              ///< the detector's quality status
+  double render_ms = 0.0, detect_ms = 0.0;
+  std::vector<ObjectRecord> objects;
+  std::vector<FalseRecord> false_detections;
+};
+
+/// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the
+/// detection's box (at least 20 % of the smaller of box and object); the first detection of an object counts,
+/// others and those on no eligible object are false, those on designated objects that are not eligible (too
+/// small, too near or far) are neither.
+PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
+                        double luma);
+
+/// Markdown tables: overall, then per range, turbidity, brightness, water, colour and shape bin.
+void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs);
+
+/// Every pair with every object and false detection, as one JSON document.
+void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const std::string& config_path);
+
+/// The `k` worst failures (missed, then colour wrong, then shape wrong, then largest range error), worst first:
+/// (pair index, object index).
+std::vector<std::pair<std::size_t, std::size_t>> worstFailures(const std::vector<PairRecord>& pairs, std::size_t k);
+
+/// The left image with the truth box (green) of `object`, every detection (red) and a caption.
+cv::Mat failurePicture(const cv::Mat& left_bgr, const PairRecord& pair, const ObjectRecord& object,
+                       const DetectionResult& result);
+
+}  // namespace tools
+}  // namespace underwater_stereo

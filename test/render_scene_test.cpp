@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// render_scene --random end to end: sampled scenes in, images, Pascal VOC XML and label masks out.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int run(const std::string& args) {
+  const int status = std::system((std::string(UWS_RENDER_SCENE) + " " + args + " >/dev/null 2>&1").c_str());
+  return WEXITSTATUS(status);
+}
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
+  const fs::path out = fs::temp_directory_path() / ("render_scene_test_" + std::to_string(::getpid()));
+  ASSERT_EQ(run("--random 3 --seed 77 --size 320x200 --out " + out.string()), 0);
+  for (int seed = 77; seed < 80; ++seed) {
+    const std::string id = "0000" + std::to_string(seed);
+    SCOPED_TRACE(id);
+    const cv::Mat image = cv::imread((out / "images" / (id + ".png")).string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat mask = cv::imread((out / "masks" / (id + ".png")).string(), cv::IMREAD_UNCHANGED);
+    const std::string xml = read(out / "annotations" / (id + ".xml"));
+    ASSERT_EQ(image.type(), CV_8UC3);
+    ASSERT_EQ(mask.type(), CV_8UC1);
+    EXPECT_EQ(image.size(), cv::Size(320, 200));
+    EXPECT_EQ(mask.size(), image.size());
+    ASSERT_EQ(xml.rfind("<annotation>", 0), 0U);
+    EXPECT_NE(xml.find("<filename>" + id + ".png</filename>"), std::string::npos);
+    EXPECT_NE(xml.find("</annotation>"), std::string::npos);
+    // k-th <object> <-> mask value k: as many objects as mask labels, each box around its label's pixels.
+    const std::regex box("<name>(red|orange|yellow|green)</name>[^]*?<xmin>([0-9]+)</xmin><ymin>([0-9]+)</ymin>"
+                         "<xmax>([0-9]+)</xmax><ymax>([0-9]+)</ymax>");
+    int k = 0;
+    for (auto it = std::sregex_iterator(xml.begin(), xml.end(), box); it != std::sregex_iterator(); ++it) {
+      ++k;
+      const cv::Rect r = cv::boundingRect(mask == k);
+      EXPECT_EQ(std::stoi((*it)[2]), r.x + 1);
+      EXPECT_EQ(std::stoi((*it)[3]), r.y + 1);
+      EXPECT_EQ(std::stoi((*it)[4]), r.x + r.width);
+      EXPECT_EQ(std::stoi((*it)[5]), r.y + r.height);
+    }
+    double max_label = 0;
+    cv::minMaxLoc(mask, nullptr, &max_label);
+    EXPECT_EQ(static_cast<int>(max_label), k);
+  }
+  EXPECT_EQ(run("--random 2 --scene x.yaml --out " + out.string()), 2);  // modes do not mix
+  EXPECT_EQ(run("--random 2"), 2);                                       // no --out
+  fs::remove_all(out);
+}
