@@ -306,12 +306,33 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
        [](auto&, auto& li, auto&, auto&) { li.K.fill(0.0); li.P.fill(0.0); }},
       {"NaN camera_info", "camera_info",
        [](auto&, auto&, auto&, auto& ri) { ri.P[0] = std::numeric_limits<double>::quiet_NaN(); }},
-      {"empty image", "empty",
+      {"empty image", "image size 0x0 is outside",
        [](auto& l, auto&, auto&, auto&) {
          l.data.clear();
          l.width = l.height = 0;
        }},
       {"unsynchronised stamps", "apart", [](auto&, auto&, auto&, auto&) {}, 0.05},
+      {"1 px image", "image size 1x1 is outside",
+       [](auto& l, auto&, auto&, auto&) {
+         l.width = l.height = 1;
+         l.step = 3;
+         l.data.assign(3, 0);
+       }},
+      {"width overflowing 32 bits", "image size 2147483648x400",
+       [](auto&, auto&, auto& r, auto&) {
+         r.width = 0x80000000U;
+         r.step = 16;
+       }},
+      {"step shorter than a row", "step 100 is below",
+       [](auto& l, auto&, auto&, auto&) { l.step = 100; }},
+      {"implausible baseline", "baseline",
+       [](auto&, auto&, auto&, auto& ri) { ri.P[3] = -ri.P[0] * 1e12; }},
+      {"unknown distortion model", "distortion_model 'equidistant' is not supported",
+       [](auto&, auto& li, auto&, auto&) { li.distortion_model = "equidistant"; }},
+      {"absurd distortion coefficient", "distortion coefficient 500",
+       [](auto&, auto& li, auto&, auto&) { li.D = {500, -500, 0, 0, 0}; }},
+      {"focal length 1e-6 px", "K[0] (fx) = 1e-06 px",
+       [](auto&, auto& li, auto&, auto&) { li.K[0] = 1e-6; }},
   };
   ros::Time stamp(1000.0);
   for (const Case& c : cases) {
@@ -352,6 +373,82 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
       << "the valid pair after the bad ones was not processed";
   std::lock_guard<std::mutex> lock(listener.mutex);
   EXPECT_EQ(listener.objects[stamp]->objects.size(), 2U);
+}
+
+// Exact sync (detector_exact_sync.test): a valid calibration that changes its distortion vector's length
+// (5 -> 0 -> 4 -> 8 -> 5) rebuilds the rectification maps and every pair is processed.
+TEST_F(HandFedDetector, ExactSyncPairsWhoseDistortionVectorChangesLengthAreAllProcessed) {
+  ros::Time stamp(3000.0);
+  std::vector<ros::Time> sent;
+  for (const std::size_t n : {5, 0, 4, 8, 5}) {
+    sensor_msgs::CameraInfo li = left_info, ri = right_info;
+    li.D.assign(n, 0.0);
+    ri.D.assign(n, 0.0);
+    if (n == 8) li.distortion_model = ri.distortion_model = "rational_polynomial";
+    stamp += ros::Duration(1.0);
+    pub.send(left, li, right, ri, stamp);
+    sent.push_back(stamp);
+    ros::WallDuration(0.3).sleep();
+  }
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    EXPECT_TRUE(waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(listener.mutex);
+          return listener.objects.count(sent[i]) > 0;
+        },
+        20.0))
+        << "pair " << i << " (distortion vector changed) was not processed";
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    if (listener.objects.count(sent[i])) {
+      EXPECT_EQ(listener.objects[sent[i]]->objects.size(), 2U) << "pair " << i;
+    }
+  }
+}
+
+// Exact sync: a left image without a right one and a pair whose stamps differ by 1 ms never pair; once the
+// synchroniser's queue has moved past them they are counted, and the diagnostic WARNs naming the difference.
+TEST_F(HandFedDetector, ExactSyncCountsImagesThatNeverPairAndWarns) {
+  const cv::Mat black_frame = cv::Mat::zeros(pair.left.size(), CV_8UC3);
+  const sensor_msgs::Image black = *cv_bridge::CvImage(std_msgs::Header(), "bgr8", black_frame).toImageMsg();
+  ros::Time stamp(4000.0);
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    listener.diagnostics.clear();
+  }
+  stamp += ros::Duration(1.0);
+  sensor_msgs::Image lonely = black;  // a left image (and its infos) without any right image
+  lonely.header.stamp = stamp;
+  sensor_msgs::CameraInfo li = left_info, ri = right_info;
+  li.header.stamp = ri.header.stamp = stamp;
+  pub.left_info.publish(li);
+  pub.right_info.publish(ri);
+  pub.left.publish(lonely);
+  stamp += ros::Duration(1.0);
+  pub.send(black, left_info, black, right_info, stamp, 0.001);  // 1 ms apart: exact sync never pairs them
+  for (int i = 0; i < 12; ++i) {  // enough valid pairs to move every queue past them
+    stamp += ros::Duration(0.1);
+    pub.send(black, left_info, black, right_info, stamp);
+    ros::WallDuration(0.05).sleep();
+  }
+  std::string left_unpaired, right_unpaired, last;
+  const bool warned = waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(listener.mutex);
+        for (const auto& d : listener.diagnostics) {
+          if (d.level == diagnostic_msgs::DiagnosticStatus::WARN && d.message.find("never paired") != std::string::npos) {
+            left_unpaired = diagnosticValue(d, "left images never paired");
+            right_unpaired = diagnosticValue(d, "right images never paired");
+            last = d.message;
+            return true;
+          }
+        }
+        return false;
+      },
+      15.0);
+  ASSERT_TRUE(warned) << "no WARN diagnostic about images that never paired";
+  EXPECT_EQ(left_unpaired, "2") << last;
+  EXPECT_EQ(right_unpaired, "1") << last;
+  EXPECT_NE(last.find(" ms away"), std::string::npos) << last;
 }
 
 int main(int argc, char** argv) {

@@ -10,10 +10,16 @@
 
 namespace underwater_stereo {
 
+namespace {
+/// Pairs waiting for a slow callback before the oldest is dropped.
+constexpr std::size_t kMaxQueuedPairs = 4;
+/// The camera thread refreshes its stream statistics (a GVCP read) this often.
+constexpr std::chrono::milliseconds kStatisticsPeriod(1000);
+}  // namespace
+
 struct AravisStereoSource::Side {
   CameraSettings settings;
-  std::mutex mutex;                       ///< guards camera (the trigger thread uses it too) and status
-  std::shared_ptr<AravisCamera> camera;
+  std::mutex mutex;                       ///< guards status (the camera itself is used by its thread only)
   ClockMapper clock;
   FrameIdTracker ids;
   CameraStatus status;
@@ -59,7 +65,7 @@ AravisStereoSource::~AravisStereoSource() { stop(); }
 
 void AravisStereoSource::start(FrameCallback callback) {
   if (running_) return;
-  callback_ = std::move(callback);
+  delivery_ = std::make_unique<PairDelivery>(std::move(callback), kMaxQueuedPairs);
   running_ = true;
   for (int s = 0; s < 2; ++s) sides_[s]->thread = std::thread([this, s] { runCamera(s); });
 }
@@ -70,27 +76,31 @@ void AravisStereoSource::stop() {
   for (auto& side : sides_) {
     if (side->thread.joinable()) side->thread.join();
     std::lock_guard<std::mutex> lock(side->mutex);
-    side->camera.reset();
     side->status.state = "closed";
   }
+  std::unique_ptr<PairDelivery> delivery;
+  {
+    std::lock_guard<std::mutex> lock(pair_mutex_);
+    delivered_before_ = delivery_->counts();
+    delivery = std::move(delivery_);
+  }
+  delivery.reset();  // joins its thread (outside the lock: a callback may ask for status()): no callback after this
 }
 
 StereoStatus AravisStereoSource::status() {
   StereoStatus out;
   CameraStatus* targets[2] = {&out.left, &out.right};
   for (int s = 0; s < 2; ++s) {
-    std::shared_ptr<AravisCamera> camera;
-    {
-      std::lock_guard<std::mutex> lock(sides_[s]->mutex);
-      *targets[s] = sides_[s]->status;
-      camera = sides_[s]->camera;
-    }
-    if (camera) targets[s]->stream = camera->statistics();
+    std::lock_guard<std::mutex> lock(sides_[s]->mutex);
+    *targets[s] = sides_[s]->status;  // its stream statistics as its own thread last read them
   }
   std::lock_guard<std::mutex> lock(pair_mutex_);
   out.pairs = pairer_.pairs();
   out.unpaired = pairer_.dropped();
   out.last_skew_ms = last_skew_ms_;
+  const PairDelivery::Counts delivery = delivery_ ? delivery_->counts() : delivered_before_;
+  out.out_of_order = delivery.out_of_order;
+  out.overflowed = delivery.overflowed;
   return out;
 }
 
@@ -126,7 +136,6 @@ void AravisStereoSource::runCamera(int s) {
     backoff = 0.25;
     {
       std::lock_guard<std::mutex> lock(side.mutex);
-      side.camera = camera;
       side.status.description = camera->description();
       side.status.state = "streaming";
       side.clock = ClockMapper();
@@ -137,6 +146,7 @@ void AravisStereoSource::runCamera(int s) {
       pairer_.clear();
     }
     auto last_frame = std::chrono::steady_clock::now();
+    auto statistics_due = last_frame;
     std::string lost_reason;
     // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (ticks of the steady
     // clock), so a camera that hangs or vanishes never delays the other's trigger.
@@ -157,6 +167,12 @@ void AravisStereoSource::runCamera(int s) {
           while (tick <= now) tick += period;
         }
         wait_ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(tick - now).count()) + 1;
+      }
+      if (std::chrono::steady_clock::now() >= statistics_due) {
+        const CameraStatistics statistics = camera->statistics();
+        std::lock_guard<std::mutex> lock(side.mutex);
+        side.status.stream = statistics;
+        statistics_due = std::chrono::steady_clock::now() + kStatisticsPeriod;
       }
       CameraFrame frame;
       if (camera->next(frame, std::min(wait_ms, 100))) {
@@ -181,7 +197,6 @@ void AravisStereoSource::runCamera(int s) {
     }
     {
       std::lock_guard<std::mutex> lock(side.mutex);
-      side.camera.reset();
       if (!lost_reason.empty()) {
         ++side.status.outages;
         side.status.last_error = lost_reason;
@@ -200,21 +215,19 @@ void AravisStereoSource::runCamera(int s) {
 
 void AravisStereoSource::deliver(int side, CameraFrame frame, std::int64_t capture_ns) {
   frame.capture_ns = capture_ns;
-  std::optional<std::pair<CameraFrame, CameraFrame>> pair;
+  // Pairs are formed and queued under one lock, so they leave the delivery thread in the order they formed,
+  // whichever camera thread completed them.
+  std::lock_guard<std::mutex> lock(pair_mutex_);
+  auto pair = pairer_.add(side == 0 ? FramePairer<CameraFrame>::kLeft : FramePairer<CameraFrame>::kRight, capture_ns,
+                          std::move(frame));
+  if (!pair) return;
+  last_skew_ms_ = std::abs(static_cast<double>(pair->first.capture_ns - pair->second.capture_ns)) / 1e6;
   StereoFrame out;
-  {
-    std::lock_guard<std::mutex> lock(pair_mutex_);
-    pair = pairer_.add(side == 0 ? FramePairer<CameraFrame>::kLeft : FramePairer<CameraFrame>::kRight, capture_ns,
-                       std::move(frame));
-    if (!pair) return;
-    out.sequence = sequence_++;
-    last_skew_ms_ = std::abs(static_cast<double>(pair->first.capture_ns - pair->second.capture_ns)) / 1e6;
-  }
   out.left = std::move(pair->first.image);
   out.right = std::move(pair->second.image);
   out.encoding = pair->first.encoding;
   out.capture_time_ns = pair->first.capture_ns;  // the left capture; the right one is within the skew
-  if (callback_) callback_(out);
+  delivery_->push(std::move(out));
 }
 
 }  // namespace underwater_stereo

@@ -9,6 +9,10 @@ namespace underwater_stereo {
 
 void YamlFields::optionalVector(const YAML::Node& map, const std::string& key, const std::string& path,
                                 std::vector<double>& value, std::size_t expected_size) {
+  if (!map.IsMap()) {
+    notAMap(map, path);
+    return;
+  }
   const YAML::Node node = map[key];
   if (!node) return;
   std::vector<double> read;
@@ -34,14 +38,20 @@ void YamlFields::optionalVector3(const YAML::Node& map, const std::string& key, 
   value = Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
+void YamlFields::notAMap(const YAML::Node& node, const std::string& path) {
+  const std::string problem = (path.empty() ? std::string("document") : path) + ": expected a map of key: value, got '" +
+                              YAML::Dump(node) + "'";
+  if (std::find(errors_.begin(), errors_.end(), problem) == errors_.end()) errors_.push_back(problem);
+}
+
 void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path,
                           std::initializer_list<const char*> allowed) {
   if (!map.IsMap()) {
-    errors_.push_back((path.empty() ? std::string("document") : path) + ": expected a map of key: value");
+    notAMap(map, path);
     return;
   }
   for (const auto& entry : map) {
-    const std::string key = entry.first.as<std::string>();
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : YAML::Dump(entry.first);
     const bool known = std::any_of(allowed.begin(), allowed.end(),
                                    [&](const char* name) { return std::strcmp(name, key.c_str()) == 0; });
     if (!known) {

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
 #include "underwater_stereo/detection/stopwatch.h"
 
@@ -234,6 +235,7 @@ std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
 
 DetectionResult Detector::detect2d(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::detect2d: empty frame");
+  requireImageSize(frame.size(), config_.search_scale, "Detector::detect2d");
   DetectionResult result;
   Stopwatch watch, total;
   const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
@@ -294,6 +296,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
 DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) const {
   if (!matcher_) throw std::invalid_argument("Detector::detect: built without calibration (2D only)");
   if (left.empty() || right.empty()) throw std::invalid_argument("Detector::detect: empty frame");
+  requireImageSize(left.size(), config_.search_scale, "Detector::detect");
   const CameraCalibration& cal = matcher_->calibration().left;
   if (left.size() != cv::Size(cal.width, cal.height) || right.size() != left.size()) {
     throw std::invalid_argument("Detector::detect: images are " + std::to_string(left.size().width) + "x" +

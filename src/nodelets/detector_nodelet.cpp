@@ -41,6 +41,7 @@
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
+#include "underwater_stereo/ros_glue/pairing_monitor.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
 #include "underwater_stereo/ros_glue/stereo_input.h"
 
@@ -68,11 +69,6 @@ struct Processed {
   DetectionResult result;
   ros::WallTime start;
 };
-
-bool sameCalibration(const CameraCalibration& a, const CameraCalibration& b) {
-  return a.width == b.width && a.height == b.height && a.K == b.K && a.R == b.R && a.P == b.P &&
-         cv::norm(a.D, b.D, cv::NORM_INF) == 0;
-}
 
 /// The operator's thresholds (dynamic_reconfigure) <-> the detector configuration.
 void toReconfigure(const DetectorConfig& c, DetectorTuningConfig& r) {
@@ -136,12 +132,16 @@ class DetectorNodelet : public nodelet::Nodelet {
     params.optional("mount_xyz", mount_xyz);
     params.optional("mount_rpy", mount_rpy);
     params.optional("stereo_frame", stereo_frame_);
+    params.optional("max_dropped_share", max_dropped_share_);
     if (queue_size < 1 || queue_size > 100) problems.push_back(pnh.resolveName("queue_size") + ": must be 1..100");
     if (worker_threads < 1 || worker_threads > 16) {
       problems.push_back(pnh.resolveName("worker_threads") + ": must be 1..16");
     }
     if (max_waiting_pairs < 1 || max_waiting_pairs > 10) {
       problems.push_back(pnh.resolveName("max_waiting_pairs") + ": must be 1..10");
+    }
+    if (!(max_dropped_share_ >= 0 && max_dropped_share_ <= 1)) {
+      problems.push_back(pnh.resolveName("max_dropped_share") + ": must be in [0, 1]");
     }
     if (!(max_skew_s_ >= 0 && max_skew_s_ < 1)) problems.push_back(pnh.resolveName("max_skew_s") + ": must be in [0, 1)");
     if (mount_xyz.size() != 3) problems.push_back(pnh.resolveName("mount_xyz") + ": needs 3 numbers [m]");
@@ -156,12 +156,14 @@ class DetectorNodelet : public nodelet::Nodelet {
       problems.push_back(pnh.resolveName("config_file") + " (" + config_file + "): " + e.what());
     }
     tracking_ = std::make_unique<ros_glue::ObjectTracking>(pnh, config_.stereo, problems);
+    search_scale_ = config_.search_scale;
     if (!problems.empty()) {
       const std::string message = joinProblems("DetectorNodelet: invalid configuration, not started", problems);
       NODELET_FATAL_STREAM(message);
       throw std::invalid_argument(message);
     }
 
+    pairing_ = std::make_unique<ros_glue::PairingMonitor>(static_cast<std::size_t>(queue_size) + 2);
     objects_pub_ = pnh.advertise<DetectedObjectArray>("objects", 10);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 2);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cloud", 2);
@@ -198,6 +200,11 @@ class DetectorNodelet : public nodelet::Nodelet {
     right_topic_ = nh.resolveName("right/image_raw");
     queue_size_ = queue_size;
     subscribe();
+    // An image the synchroniser drops (no partner within its queue) is counted, not lost unseen.
+    left_image_sub_.registerCallback(boost::function<void(const ImageConstPtr&)>(
+        [this](const ImageConstPtr& m) { pairing_->image(ros_glue::StereoSide::kLeft, m->header.stamp.toSec()); }));
+    right_image_sub_.registerCallback(boost::function<void(const ImageConstPtr&)>(
+        [this](const ImageConstPtr& m) { pairing_->image(ros_glue::StereoSide::kRight, m->header.stamp.toSec()); }));
     if (approximate) {
       approximate_sync_ = std::make_unique<message_filters::Synchronizer<ApproximatePolicy>>(
           ApproximatePolicy(queue_size), left_image_sub_, left_info_sub_, right_image_sub_, right_info_sub_);
@@ -278,6 +285,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   void onPair(const ImageConstPtr& left, const CameraInfoConstPtr& left_info, const ImageConstPtr& right,
               const CameraInfoConstPtr& right_info) {
     ++received_;
+    pairing_->paired(left->header.stamp.toSec(), right->header.stamp.toSec());
     std::lock_guard<std::mutex> lock(mutex_);
     Pair pair{left, right, left_info, right_info};
     if (!idle_.empty()) {  // the worker idle last: its caches are the warmest
@@ -360,7 +368,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     out.start = ros::WallTime::now();
     try {
       out.input = ros_glue::toStereoInput(*pair.left, *pair.left_info, *pair.right, *pair.right_info, left_topic_,
-                                          right_topic_, max_skew_s_);
+                                          right_topic_, max_skew_s_, search_scale_);
     } catch (const std::invalid_argument& e) {
       badInput(e.what());
       return std::nullopt;
@@ -368,8 +376,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     std::shared_ptr<const Detector> detector;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (!detector_ || rebuild_ || !sameCalibration(out.input.calibration.left, calibration_.left) ||
-          !sameCalibration(out.input.calibration.right, calibration_.right)) {
+      if (!detector_ || rebuild_ || out.input.calibration != calibration_) {  // any field: new rectification maps
         try {
           detector_ = std::make_shared<const Detector>(config_, out.input.calibration);
           calibration_ = out.input.calibration;
@@ -415,18 +422,31 @@ class DetectorNodelet : public nodelet::Nodelet {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     const ros::WallTime now = ros::WallTime::now();
     const double elapsed = last_diagnosis_.isZero() ? 0.0 : (now - last_diagnosis_).toSec();
-    const long received = received_, processed = processed_;
+    const long received = received_, processed = processed_, dropped = dropped_;
     const double input_hz = elapsed > 0 ? (received - last_received_) / elapsed : 0.0;
     const double processed_hz = elapsed > 0 ? (processed - last_processed_) / elapsed : 0.0;
+    const long received_now = received - last_received_, dropped_now = dropped - last_dropped_;
+    const ros_glue::PairingMonitor::Counts unpaired = pairing_->counts();
+    const long unpaired_now = unpaired.unpaired_left + unpaired.unpaired_right - last_unpaired_;
     last_diagnosis_ = now;
     last_received_ = received;
     last_processed_ = processed;
+    last_dropped_ = dropped;
+    last_unpaired_ = unpaired.unpaired_left + unpaired.unpaired_right;
     std::lock_guard<std::mutex> lock(stats_mutex_);
     const bool recent_error = !last_error_time_.isZero() && (now - last_error_time_).toSec() < kErrorHoldS;
     if (!enabled_) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "paused (~enable false): no pairs received or processed");
     } else if (recent_error) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "bad input: " + last_error_);
+    } else if (unpaired_now > 0) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   std::to_string(unpaired_now) + " image(s) never paired since the last report; last: " + unpaired.last);
+    } else if (received_now > 0 && dropped_now > max_dropped_share_ * received_now) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   std::to_string(dropped_now) + " of " + std::to_string(received_now) +
+                       " pairs dropped while every worker was busy since the last report (more than max_dropped_share " +
+                       cv::format("%g", max_dropped_share_) + ")");
     } else if (received == 0) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no stereo pairs received yet");
     } else if (last_quality_.spoiled()) {
@@ -438,7 +458,10 @@ class DetectorNodelet : public nodelet::Nodelet {
     stat.add("processed rate [Hz]", processed_hz);
     stat.add("pairs received", received);
     stat.add("pairs processed", processed);
-    stat.add("pairs dropped (detector busy)", static_cast<long>(dropped_));
+    stat.add("pairs dropped (detector busy)", dropped);
+    stat.add("left images never paired", unpaired.unpaired_left);
+    stat.add("right images never paired", unpaired.unpaired_right);
+    stat.add("last unpaired image", unpaired.last.empty() ? std::string("none") : unpaired.last);
     stat.add("bad input pairs", static_cast<long>(bad_inputs_));
     stat.add("last bad input", last_error_.empty() ? std::string("none") : last_error_);
     stat.add("processing time [ms]", last_processing_ms_);
@@ -452,6 +475,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Configuration.
   DetectorConfig config_;
   double max_skew_s_ = 0.005;
+  double search_scale_ = 1.0;        ///< config_.search_scale (not reconfigurable): sets the smallest image
+  double max_dropped_share_ = 0.05;  ///< more pairs dropped while busy per report: WARN
   std::string stereo_frame_ = "stereo_left_optical_frame";
   int queue_size_ = 5;
   std::string left_topic_, right_topic_;
@@ -461,6 +486,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   message_filters::Subscriber<CameraInfo> left_info_sub_, right_info_sub_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
+  std::unique_ptr<ros_glue::PairingMonitor> pairing_;
 
   /// A pair handed to an idle worker, with its turn.
   struct Handover {
@@ -502,7 +528,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::mutex stats_mutex_;
   std::string last_error_;
   ros::WallTime last_error_time_, last_diagnosis_;
-  long last_received_ = 0, last_processed_ = 0;
+  long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
 };

@@ -195,6 +195,8 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "pairing");
     stat.add("pairs", last_status_.pairs);
     stat.add("unpaired frames dropped", last_status_.unpaired);
+    stat.add("pairs dropped (capture time not after the previous)", last_status_.out_of_order);
+    stat.add("pairs dropped (publisher busy)", last_status_.overflowed);
     stat.add("left/right skew of the last pair [ms]", last_status_.last_skew_ms);
   }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 
-#include <sensor_msgs/distortion_models.h>
+#include <stdexcept>
 
 namespace underwater_stereo {
 namespace ros_glue {
@@ -10,7 +10,7 @@ sensor_msgs::CameraInfo toCameraInfo(const CameraCalibration& c) {
   sensor_msgs::CameraInfo info;
   info.width = static_cast<std::uint32_t>(c.width);
   info.height = static_cast<std::uint32_t>(c.height);
-  info.distortion_model = sensor_msgs::distortion_models::PLUMB_BOB;
+  info.distortion_model = distortionModelName(c.distortion_model);
   info.D = c.D;
   for (int i = 0; i < 9; ++i) {
     info.K[i] = c.K.val[i];
@@ -25,6 +25,12 @@ CameraCalibration fromCameraInfo(const sensor_msgs::CameraInfo& info) {
   c.width = static_cast<int>(info.width);
   c.height = static_cast<int>(info.height);
   c.D = info.D;
+  if (const auto model = distortionModelOf(info.distortion_model)) {
+    c.distortion_model = *model;
+  } else if (!(info.distortion_model.empty() && info.D.empty())) {  // none given and none needed: no distortion
+    throw std::invalid_argument("distortion_model '" + info.distortion_model +
+                                "' is not supported (plumb_bob or rational_polynomial)");
+  }
   for (int i = 0; i < 9; ++i) {
     c.K.val[i] = info.K[i];
     c.R.val[i] = info.R[i];

@@ -1,10 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Runs the detector on image files and prints one JSON object per detection per line.
-#include <camera_calibration_parsers/parse.h>
 #include <glob.h>
 #include <ros/package.h>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include <fstream>
 #include <iostream>
@@ -13,9 +10,11 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
-#include "underwater_stereo/ros_glue/calibration_conversions.h"
+#include "underwater_stereo/detection/image_file.h"
 
 using namespace underwater_stereo;
 
@@ -31,8 +30,11 @@ const char* kUsage =
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments\n"
     "  --config        detector configuration (default: the package's config/detector.yaml)\n"
     "Prints one JSON object per line per detection (DetectedObject field names plus the frame's quality),\n"
-    "or one line with \"id\": null for a frame without detections. Unreadable frames are reported on\n"
-    "stderr and skipped; the exit status is then 1. Bad options, configuration or calibration: exit 2.\n";
+    "or one line with \"id\": null for a frame without detections; each frame's lines are written as soon as\n"
+    "it is done. Unreadable, truncated or corrupt images, and images whose size the detector cannot take\n"
+    "(or that differs from the calibration's), are reported on stderr naming the file and skipped; the other\n"
+    "frames are still reported and the exit status is then 1. Bad options, configuration or calibration:\n"
+    "exit 2, nothing processed. An unexpected internal error: exit 3.\n";
 
 struct Options {
   std::string config, left_info, right_info, list;
@@ -102,32 +104,46 @@ Options parse(int argc, char** argv) {
   return o;
 }
 
-CameraCalibration readInfo(const std::string& path) {
-  std::string name;
-  sensor_msgs::CameraInfo info;
-  if (!camera_calibration_parsers::readCalibration(path, name, info)) {
-    throw std::invalid_argument("cannot read camera_info YAML " + path);
-  }
-  return ros_glue::fromCameraInfo(info);
+/// Both cameras' calibration files, each checked on its own (naming its file), then as a pair.
+StereoCalibration readCalibrations(const std::string& left_path, const std::string& right_path) {
+  StereoCalibration c{loadCameraCalibrationFile(left_path), loadCameraCalibrationFile(right_path)};
+  const auto problems = c.validate();
+  if (!problems.empty()) throw std::invalid_argument(joinProblems(left_path + " / " + right_path, problems));
+  return c;
 }
 
-/// Reads a colour image; an empty Mat (and a message on stderr) when it cannot.
+/// Reads a colour image; an empty Mat (and a message naming the file on stderr) when it cannot.
 cv::Mat readImage(const std::string& path) {
-  const cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
-  if (img.empty()) std::cerr << "detect_files: cannot read image " << path << ", skipped\n";
-  return img;
+  try {
+    return readImageFile(path);
+  } catch (const std::exception& e) {
+    std::cerr << "detect_files: " << e.what() << ", skipped" << std::endl;
+    return cv::Mat();
+  }
 }
 
+/// The frame's lines, written out at once (a run stopped later keeps them).
 void print(const std::string& file, const DetectionResult& r, bool with_3d) {
   if (r.objects.empty()) std::cout << emptyFrameJson(file, r.quality) << '\n';
   for (std::size_t i = 0; i < r.objects.size(); ++i) {
     std::cout << detectionJson(file, static_cast<int>(i), r.objects[i], r.quality, with_3d) << '\n';
   }
+  std::cout.flush();
 }
 
-}  // namespace
+/// Runs `detect` on one frame and prints its result; false (reported naming `name`) when it fails.
+template <typename Detect>
+bool runFrame(const std::string& name, const std::string& file, bool with_3d, Detect detect) {
+  try {
+    print(file, detect(), with_3d);
+    return true;
+  } catch (const std::exception& e) {  // std::invalid_argument for bad input; anything else is reported too
+    std::cerr << "detect_files: " << name << ": " << e.what() << ", skipped" << std::endl;
+    return false;
+  }
+}
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   Options o;
   DetectorConfig config;
   std::unique_ptr<Detector> stereo, flat;
@@ -136,10 +152,7 @@ int main(int argc, char** argv) {
     if (o.config.empty()) o.config = ros::package::getPath("underwater_stereo") + "/config/detector.yaml";
     config = loadDetectorConfigFile(o.config);
     flat = std::make_unique<Detector>(config);
-    if (!o.left.empty()) {
-      StereoCalibration calibration{readInfo(o.left_info), readInfo(o.right_info)};
-      stereo = std::make_unique<Detector>(config, calibration);
-    }
+    if (!o.left.empty()) stereo = std::make_unique<Detector>(config, readCalibrations(o.left_info, o.right_info));
   } catch (const std::exception& e) {
     std::cerr << "detect_files: " << e.what() << "\n" << kUsage;
     return 2;
@@ -147,25 +160,28 @@ int main(int argc, char** argv) {
   int skipped = 0;
   for (std::size_t i = 0; i < o.left.size(); ++i) {
     const cv::Mat left = readImage(o.left[i]), right = readImage(o.right[i]);
-    if (left.empty() || right.empty()) {
-      ++skipped;
-      continue;
-    }
-    try {
-      print(o.left[i], stereo->detect(left, right), true);
-    } catch (const std::invalid_argument& e) {
-      std::cerr << "detect_files: " << o.left[i] << " / " << o.right[i] << ": " << e.what() << ", skipped\n";
+    if (left.empty() || right.empty() ||
+        !runFrame(o.left[i] + " / " + o.right[i], o.left[i], true, [&] { return stereo->detect(left, right); })) {
       ++skipped;
     }
   }
   for (const std::string& path : o.images) {
     const cv::Mat image = readImage(path);
-    if (image.empty()) {
-      ++skipped;
-      continue;
-    }
-    print(path, flat->detect2d(image), false);
+    if (image.empty() || !runFrame(path, path, false, [&] { return flat->detect2d(image); })) ++skipped;
   }
-  std::cout.flush();
+  if (skipped > 0) std::cerr << "detect_files: " << skipped << " frame(s) skipped" << std::endl;
   return skipped > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "detect_files: internal error: " << e.what() << std::endl;
+  } catch (...) {
+    std::cerr << "detect_files: internal error (unknown exception)" << std::endl;
+  }
+  return 3;
 }

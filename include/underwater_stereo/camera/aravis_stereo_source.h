@@ -14,6 +14,7 @@
 #include "underwater_stereo/camera/clock_mapper.h"
 #include "underwater_stereo/camera/frame_id_tracker.h"
 #include "underwater_stereo/camera/frame_pairer.h"
+#include "underwater_stereo/camera/pair_delivery.h"
 #include "underwater_stereo/camera/stereo_source.h"
 
 namespace underwater_stereo {
@@ -45,13 +46,17 @@ struct StereoStatus {
   CameraStatus left, right;
   std::uint64_t pairs = 0;
   std::uint64_t unpaired = 0;       ///< frames dropped without a partner
+  std::uint64_t out_of_order = 0;   ///< pairs dropped: capture time not after the previous pair's
+  std::uint64_t overflowed = 0;     ///< pairs dropped: the receiver was still busy with earlier ones
   double last_skew_ms = 0.0;        ///< capture-time difference of the last pair
 };
 
 /// Runs one thread per camera: opening, reconfiguring after a loss, firing TriggerSoftware on the shared
 /// schedule (software sync), receiving. A camera absent at start is waited for; one that vanishes is reopened
 /// with back-off and fully reconfigured while the other keeps streaming. Pairs carry the capture time on the
-/// host clock. Messages (settings read back, errors) go to `log`.
+/// host clock. Pairs reach the callback from one delivery thread, in strictly increasing capture time
+/// (PairDelivery). Each camera is used by its own thread only (status() reads copies). Messages (settings
+/// read back, errors) go to `log`.
 class AravisStereoSource : public StereoSource {
  public:
   using Log = std::function<void(bool error, const std::string& message)>;
@@ -70,12 +75,12 @@ class AravisStereoSource : public StereoSource {
 
   AravisStereoConfig config_;
   Log log_;
-  FrameCallback callback_;
   std::unique_ptr<Side> sides_[2];
-  std::mutex pair_mutex_;
+  std::mutex pair_mutex_;  ///< guards pairer_, last_skew_ms_, delivery_ (pushing to it)
   FramePairer<CameraFrame> pairer_;
-  std::uint64_t sequence_ = 0;
   double last_skew_ms_ = 0.0;
+  std::unique_ptr<PairDelivery> delivery_;  ///< while started
+  PairDelivery::Counts delivered_before_;   ///< its counts when stopped
   std::atomic<bool> running_{false};
 };
 

@@ -21,6 +21,10 @@ class YamlFields {
   /// A present value of the wrong type is recorded as a problem and `value` is left unchanged.
   template <typename T>
   void optional(const YAML::Node& map, const std::string& key, const std::string& path, T& value) {
+    if (!map.IsMap()) {  // operator[] would throw on a scalar or a list
+      notAMap(map, path);
+      return;
+    }
     const YAML::Node node = map[key];
     if (!node) return;
     try {
@@ -33,6 +37,10 @@ class YamlFields {
   /// Like optional(), but a missing key is a problem.
   template <typename T>
   void required(const YAML::Node& map, const std::string& key, const std::string& path, T& value) {
+    if (!map.IsMap()) {
+      notAMap(map, path);
+      return;
+    }
     if (!map[key]) {
       errors_.push_back(path + key + ": missing");
       return;
@@ -52,6 +60,9 @@ class YamlFields {
   /// Records a problem that is not about one field's type.
   void fail(const std::string& message) { errors_.push_back(message); }
 
+  /// Records once that `node`, at `path`, should have been a map.
+  void notAMap(const YAML::Node& node, const std::string& path);
+
  private:
   template <typename T>
   static const char* typeName();
@@ -68,12 +79,15 @@ template <>
 inline const char* YamlFields::typeName<bool>() { return "true or false"; }
 template <>
 inline const char* YamlFields::typeName<std::string>() { return "a string"; }
+template <>
+inline const char* YamlFields::typeName<std::vector<double>>() { return "a list of numbers"; }
 
 /// Joins problems into one message, one per line, for an exception or a log.
 std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems);
 
 /// Loads the YAML file at `path` and hands its root to `parse`. @throw std::invalid_argument naming the
-/// file (and `what` it should hold) when it cannot be read, or with `parse`'s message prefixed by the path.
+/// file (and `what` it should hold) when it cannot be read or parsed, or with `parse`'s message prefixed by
+/// the path (a yaml-cpp exception that escapes `parse` included).
 template <typename Parse>
 auto parseYamlFile(const std::string& path, const std::string& what, Parse parse) {
   YAML::Node root;
@@ -86,6 +100,8 @@ auto parseYamlFile(const std::string& path, const std::string& what, Parse parse
     return parse(root);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path + ": " + e.what());
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(path + ": not a valid " + what + ": " + e.what());
   }
 }
 

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file Reading an image file strictly: a truncated or corrupt file is an error, not a partly grey image.
+
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace underwater_stereo {
+
+/// The colour (BGR8) image in the file at `path`, as cv::imread(IMREAD_COLOR) reads it, after checks that
+/// OpenCV does not make: a JPEG must decode without any libjpeg warning (a truncated file, "premature end
+/// of data", corrupt entropy data) and a PNG must end in its IEND chunk; the size its header declares must
+/// lie in imageSizeProblem()'s range before anything is decoded.
+/// @throw std::invalid_argument naming `path` and what is wrong (cannot open, empty, truncated, corrupt,
+/// not an image format OpenCV reads, size out of range).
+cv::Mat readImageFile(const std::string& path);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/image_file.h"
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <vector>
+
+extern "C" {
+#include <jpeglib.h>
+}
+
+#include "underwater_stereo/detection/image_checks.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// libjpeg's error manager, made strict: an error jumps back, a warning (corrupt or missing data, which
+/// libjpeg would fill with grey) is kept and fails the check.
+struct StrictJpegErrors {
+  jpeg_error_mgr mgr;
+  std::jmp_buf jump;
+  char message[JMSG_LENGTH_MAX];
+  int width, height;
+  std::vector<JSAMPLE> row;  ///< one decoded row (lives outside the function that may jump)
+};
+
+void onJpegError(j_common_ptr cinfo) {
+  auto* e = reinterpret_cast<StrictJpegErrors*>(cinfo->err);
+  (*cinfo->err->format_message)(cinfo, e->message);
+  std::longjmp(e->jump, 1);
+}
+
+void onJpegMessage(j_common_ptr cinfo) {
+  auto* e = reinterpret_cast<StrictJpegErrors*>(cinfo->err);
+  if (e->message[0] == '\0') (*cinfo->err->format_message)(cinfo, e->message);  // the first warning
+}
+
+/// Decodes the whole JPEG `data` (no local with a destructor: longjmp skips none); "" when it is intact,
+/// else libjpeg's message. The header's size is checked before decoding.
+std::string jpegProblem(const unsigned char* data, std::size_t size, StrictJpegErrors& errors) {
+  jpeg_decompress_struct cinfo;
+  cinfo.err = jpeg_std_error(&errors.mgr);
+  errors.mgr.error_exit = onJpegError;
+  errors.mgr.output_message = onJpegMessage;
+  errors.message[0] = '\0';
+  errors.width = errors.height = 0;
+  if (setjmp(errors.jump) != 0) {
+    jpeg_destroy_decompress(&cinfo);
+    return errors.message;
+  }
+  jpeg_create_decompress(&cinfo);
+  jpeg_mem_src(&cinfo, data, static_cast<unsigned long>(size));
+  jpeg_read_header(&cinfo, TRUE);
+  errors.width = static_cast<int>(cinfo.image_width);
+  errors.height = static_cast<int>(cinfo.image_height);
+  if (!imageSizeProblem(errors.width, errors.height).empty()) {
+    jpeg_destroy_decompress(&cinfo);
+    return "";  // the caller reports the size
+  }
+  cinfo.out_color_space = JCS_GRAYSCALE;  // only the data's integrity matters here: the cheapest output
+  jpeg_start_decompress(&cinfo);
+  errors.row.resize(static_cast<std::size_t>(cinfo.output_width) * cinfo.output_components);
+  while (cinfo.output_scanline < cinfo.output_height) {
+    JSAMPLE* row = errors.row.data();
+    jpeg_read_scanlines(&cinfo, &row, 1);
+  }
+  jpeg_finish_decompress(&cinfo);
+  jpeg_destroy_decompress(&cinfo);
+  return errors.message;  // a warning's message, or ""
+}
+
+std::uint32_t bigEndian32(const unsigned char* p) {
+  return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
+}
+
+}  // namespace
+
+cv::Mat readImageFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument(path + ": cannot open the file");
+  std::vector<unsigned char> bytes;
+  try {
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception& e) {  // libstdc++ throws reading a directory
+    throw std::invalid_argument(path + ": cannot read the file (" + e.what() + ")");
+  }
+  if (in.bad()) throw std::invalid_argument(path + ": cannot read the file (an I/O error)");
+  if (bytes.empty()) throw std::invalid_argument(path + ": empty file");
+  long long width = -1, height = -1;  // as the header declares them, where known before decoding
+  static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  static const unsigned char kPngEnd[8] = {'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+  if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) {
+    StrictJpegErrors errors;
+    const std::string problem = jpegProblem(bytes.data(), bytes.size(), errors);
+    if (!problem.empty()) throw std::invalid_argument(path + ": corrupt or truncated JPEG (" + problem + ")");
+    width = errors.width;
+    height = errors.height;
+  } else if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPngSignature, 8) == 0) {
+    if (bytes.size() < 33) throw std::invalid_argument(path + ": truncated PNG (" + std::to_string(bytes.size()) + " bytes)");
+    width = bigEndian32(&bytes[16]);
+    height = bigEndian32(&bytes[20]);
+    if (std::memcmp(&bytes[bytes.size() - 8], kPngEnd, 8) != 0) {
+      throw std::invalid_argument(path + ": truncated PNG (the file does not end with its IEND chunk)");
+    }
+  }
+  if (width >= 0) {
+    const std::string size_problem = imageSizeProblem(width, height);
+    if (!size_problem.empty()) throw std::invalid_argument(path + ": " + size_problem);
+  }
+  cv::Mat image;
+  try {
+    image = cv::imdecode(bytes, cv::IMREAD_COLOR);
+  } catch (const cv::Exception& e) {
+    throw std::invalid_argument(path + ": cannot decode the image (" + e.err + ")");
+  }
+  if (image.empty()) throw std::invalid_argument(path + ": not an image OpenCV can read, or corrupt");
+  const std::string size_problem = imageSizeProblem(image.cols, image.rows);
+  if (!size_problem.empty()) throw std::invalid_argument(path + ": " + size_problem);
+  return image;
+}
+
+}  // namespace underwater_stereo

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// AravisStereoSource with two of Aravis' fake GigE cameras in this process (127.0.0.1 and 127.0.0.2, the
+// second added to lo as root), under load: a receiver that is sometimes slow, status() polled continuously
+// from another thread. Pairs must reach the callback from one thread at a time, in strictly increasing capture
+// time, and every pair formed must be delivered or counted. Also run under ThreadSanitizer (scripts/test).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+
+#include "fake_gv_camera.h"
+#include "underwater_stereo/camera/aravis_stereo_source.h"
+
+using namespace underwater_stereo;
+
+TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoad) {
+  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
+    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
+  }
+  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
+  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
+  AravisStereoConfig config;
+  for (CameraSettings* s : {&config.left, &config.right}) {
+    s->exposure_us = 5000;
+    s->gain = 0;
+    s->trigger_line = "Line0";
+  }
+  config.left.id = "127.0.0.1";
+  config.right.id = "127.0.0.2";
+  config.sync = TriggerMode::kFreeRun;  // the two cameras' frames complete pairs on either thread
+  config.rate_hz = 40;
+  std::mutex mutex;
+  std::vector<std::int64_t> stamps;
+  std::vector<std::uint64_t> sequences;
+  std::atomic<int> inside{0}, concurrent{0};
+  AravisStereoSource source(config, [](bool, const std::string&) {});
+  source.start([&](const StereoFrame& f) {
+    if (inside.fetch_add(1) != 0) ++concurrent;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      stamps.push_back(f.capture_time_ns);
+      sequences.push_back(f.sequence);
+      if (stamps.size() % 10 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(250));  // a slow receiver
+    }
+    inside.fetch_sub(1);
+  });
+  std::atomic<bool> polling{true};
+  std::atomic<std::uint64_t> polls{0};
+  std::thread poller([&] {  // diagnostics asking all the time, as a busy nodelet's timer might
+    while (polling) {
+      const StereoStatus s = source.status();
+      if (s.left.state.empty() || s.right.state.empty()) ADD_FAILURE() << "a camera status without a state";
+      ++polls;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  while (std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::lock_guard<std::mutex> lock(mutex);
+    if (stamps.size() >= 120) break;
+  }
+  polling = false;
+  poller.join();
+  source.stop();
+  const StereoStatus status = source.status();
+  std::lock_guard<std::mutex> lock(mutex);
+  std::cout << stamps.size() << " pairs delivered, " << status.pairs << " formed, " << status.overflowed
+            << " dropped while the receiver was busy, " << status.out_of_order << " out of order, " << status.unpaired
+            << " frames unpaired, " << polls.load() << " status polls" << std::endl;
+  ASSERT_GE(stamps.size(), 20U) << "too few pairs to judge";
+  EXPECT_EQ(concurrent.load(), 0) << "the callback ran on two threads at once";
+  for (std::size_t k = 1; k < stamps.size(); ++k) {
+    ASSERT_LT(stamps[k - 1], stamps[k]) << "pair " << k << " out of capture order";
+    ASSERT_EQ(sequences[k], sequences[k - 1] + 1);
+  }
+  // Every pair formed was delivered or counted (those still queued when stopped are discarded: at most 4).
+  EXPECT_LE(stamps.size() + status.overflowed + status.out_of_order, status.pairs);
+  EXPECT_GE(stamps.size() + status.overflowed + status.out_of_order + 4, status.pairs);
+}

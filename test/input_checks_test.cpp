@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The core's entry points refuse bad input up front, class by class, with messages naming the file or field
+// and the allowed range: image sizes, image files (truncated, corrupt, not images), calibration YAML (shape
+// and plausibility), YAML that is not what it should be.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include <fstream>
+#include <functional>
+
+#include "underwater_stereo/common/calibration_yaml.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/image_checks.h"
+#include "underwater_stereo/detection/image_file.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+std::string tempFile(const std::string& name, const std::string& bytes) {
+  const std::string path = testing::TempDir() + "uws_checks_" + std::to_string(::getpid()) + "_" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+template <typename F>
+std::string messageOf(F f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+std::string encoded(const std::string& ext, cv::Size size = cv::Size(64, 48)) {
+  cv::Mat image(size, CV_8UC3);
+  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+  std::vector<uchar> bytes;
+  cv::imencode(ext, image, bytes);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+const char* kGoodCalibration = R"(image_width: 640
+image_height: 400
+camera_name: left
+camera_matrix: {rows: 3, cols: 3, data: [500, 0, 320, 0, 500, 200, 0, 0, 1]}
+distortion_model: plumb_bob
+distortion_coefficients: {rows: 1, cols: 5, data: [0.01, -0.02, 0, 0, 0]}
+rectification_matrix: {rows: 3, cols: 3, data: [1, 0, 0, 0, 1, 0, 0, 0, 1]}
+projection_matrix: {rows: 3, cols: 4, data: [500, 0, 320, 0, 0, 500, 200, 0, 0, 0, 1, 0]}
+)";
+
+/// The good calibration with `from` replaced by `to`.
+std::string calibrationWith(const std::string& from, const std::string& to) {
+  std::string s = kGoodCalibration;
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? s : s.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST(ImageSize, TheRangeDependsOnTheSearchScale) {
+  EXPECT_EQ(imageSizeProblem(32, 32), "");
+  EXPECT_EQ(imageSizeProblem(16384, 16384), "");
+  EXPECT_EQ(imageSizeProblem(1, 1), "image size 1x1 is outside 32..16384 px per side");
+  EXPECT_NE(imageSizeProblem(16385, 100).find("outside"), std::string::npos);
+  EXPECT_NE(imageSizeProblem(4294967296LL, 100).find("4294967296x100"), std::string::npos);
+  EXPECT_EQ(minImageSidePx(0.5), 32);
+  EXPECT_EQ(minImageSidePx(0.1), 160);
+  EXPECT_NE(imageSizeProblem(2000, 2, 0.1).find("(search_scale 0.1 needs >= 160)"), std::string::npos);
+}
+
+TEST(ImageSize, TheDetectorRefusesFramesTooSmallOrThinForItsStages) {
+  DetectorConfig config = loadDetectorConfigFile(std::string(UWS_SOURCE_DIR) + "/config/detector.yaml");
+  const Detector flat(config);
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(1, 1200), cv::Size(1920, 1), cv::Size(2000, 1), cv::Size(31, 400)}) {
+    const std::string m = messageOf([&] { flat.detect2d(cv::Mat(size, CV_8UC3, cv::Scalar(100, 90, 40))); });
+    EXPECT_NE(m.find("Detector::detect2d: image size"), std::string::npos) << m;
+  }
+  config.search_scale = 0.1;
+  const std::string m = messageOf([&] { Detector(config).detect2d(cv::Mat(2000, 2, CV_8UC3, cv::Scalar(1, 2, 3))); });
+  EXPECT_NE(m.find("search_scale 0.1 needs >= 160"), std::string::npos) << m;
+  // The smallest accepted frame runs through every 2D stage.
+  EXPECT_NO_THROW(Detector(config).detect2d(cv::Mat(160, 160, CV_8UC3, cv::Scalar(30, 30, 200))));
+  EXPECT_NO_THROW(flat.detect2d(cv::Mat(32, 32, CV_8UC3, cv::Scalar(30, 30, 200))));
+}
+
+TEST(ImageFile, IntactFilesAreReadAsImreadReadsThem) {
+  for (const std::string ext : {".png", ".jpg", ".bmp"}) {
+    const std::string path = tempFile("good" + ext, encoded(ext));
+    const cv::Mat read = readImageFile(path);
+    EXPECT_EQ(cv::norm(read, cv::imread(path, cv::IMREAD_COLOR), cv::NORM_INF), 0.0) << ext;
+  }
+}
+
+TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {
+  const std::string jpeg = encoded(".jpg", cv::Size(320, 240)), png = encoded(".png");
+  std::string corrupt = jpeg;
+  for (std::size_t i = jpeg.size() / 2; i < jpeg.size() / 2 + 40; ++i) corrupt[i] = static_cast<char>(0xff);
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases{
+      {"cut.jpg", jpeg.substr(0, jpeg.size() / 2), "corrupt or truncated JPEG (Premature end of JPEG file)"},
+      {"cut_end.jpg", jpeg.substr(0, jpeg.size() - 2), "Premature end of JPEG file"},
+      {"header_only.jpg", jpeg.substr(0, 300), "corrupt or truncated JPEG"},
+      {"corrupt.jpg", corrupt, "corrupt or truncated JPEG"},
+      {"cut.png", png.substr(0, png.size() / 2), "truncated PNG (the file does not end with its IEND chunk)"},
+      {"stub.png", png.substr(0, 20), "truncated PNG (20 bytes)"},
+      {"empty.png", "", "empty file"},
+      {"text.jpg", "this is not an image\n", "not an image OpenCV can read"},
+      {"tiny.png", encoded(".png", cv::Size(1, 1)), "image size 1x1 is outside 32..16384"},
+      {"thin.jpg", encoded(".jpg", cv::Size(2000, 1)), "image size 2000x1 is outside"},
+  };
+  for (const auto& [name, bytes, expected] : cases) {
+    const std::string path = tempFile(name, bytes);
+    const std::string m = messageOf([&] { readImageFile(path); });
+    EXPECT_NE(m.find(path + ": "), std::string::npos) << name << ": " << m;
+    EXPECT_NE(m.find(expected), std::string::npos) << name << ": " << m;
+  }
+  EXPECT_NE(messageOf([] { readImageFile("/nonexistent/x.png"); }).find("/nonexistent/x.png: cannot open"), std::string::npos);
+  EXPECT_NE(messageOf([] { readImageFile(testing::TempDir()); }).find("cannot read the file"), std::string::npos);
+  // A PNG header declaring a huge image is refused before anything is decoded.
+  std::string huge = png;
+  huge[16] = 0x00, huge[17] = 0x01, huge[18] = 0x00, huge[19] = 0x00;  // width 65536
+  EXPECT_NE(messageOf([&] { readImageFile(tempFile("huge.png", huge)); }).find("image size 65536x48"), std::string::npos);
+}
+
+TEST(CalibrationYaml, TheGoodFileIsReadWithEveryField) {
+  const CameraCalibration c = loadCameraCalibrationFile(tempFile("good.yaml", kGoodCalibration));
+  EXPECT_EQ(c.width, 640);
+  EXPECT_EQ(c.K(1, 2), 200);
+  EXPECT_EQ(c.D.size(), 5U);
+  EXPECT_EQ(c.P(1, 1), 500);
+  EXPECT_EQ(c.distortion_model, DistortionModel::kPlumbBob);
+}
+
+TEST(CalibrationYaml, EveryShapeAndValueProblemIsListedNamingTheFileAndField) {
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {calibrationWith("camera_matrix: {rows: 3", "camera_matrix: {rows: 2"), "camera_matrix.rows: must be 3, is 2"},
+      {calibrationWith("cols: 4, data: [500, 0, 320, 0, 0, 500, 200, 0, 0, 0, 1, 0]", "cols: 4, data: [500, 0]"),
+       "projection_matrix.data: has 2 numbers, rows x cols = 3x4 needs 12"},
+      {calibrationWith("rows: 1, cols: 5, data: [0.01, -0.02, 0, 0, 0]", "rows: 1, cols: 3, data: [0.01, -0.02, 0]"),
+       "D has 3 coefficients"},
+      {calibrationWith("plumb_bob", "equidistant"), "distortion_model: 'equidistant' is not supported"},
+      {calibrationWith("image_width: 640", "image_width: wide"), "image_width: expected an integer, got 'wide'"},
+      {calibrationWith("image_width: 640\n", ""), "image_width: missing"},
+      {calibrationWith("projection_matrix:", "projection_matrx:"), "projection_matrx: unknown key"},
+      {calibrationWith("data: [500, 0, 320, 0, 500, 200, 0, 0, 1]", "data: [1e-6, 0, 320, 0, 1e-6, 200, 0, 0, 1]"),
+       "K[0] (fx) = 1e-06 px is outside 50..20000"},
+      {calibrationWith("data: [500, 0, 320, 0, 500, 200, 0, 0, 1]", "data: [500, 0, 1e9, 0, 500, 200, 0, 0, 1]"),
+       "principal point cx = 1e+09 is outside the image (0..640)"},
+      {calibrationWith("[0.01, -0.02, 0, 0, 0]", "[500, -500, 0, 0, 0]"), "distortion coefficient 500 is outside -10..10"},
+      {calibrationWith("data: [500, 0, 320, 0, 500, 200, 0, 0, 1]", "data: [500, 0, .nan, 0, 500, 200, 0, 0, 1]"),
+       "NaN"},
+      {calibrationWith("camera_matrix: {rows: 3, cols: 3, data: [500, 0, 320, 0, 500, 200, 0, 0, 1]}", "camera_matrix: 7"),
+       "camera_matrix: expected a map"},
+      {"[1, 2, 3]", "document: expected a map"},
+      {"", "document: expected a map"},
+      {"image_width: [unclosed", "cannot read camera calibration"},
+      {"{[a]: 1}", "unknown key"},
+  };
+  for (const auto& [yaml, expected] : cases) {
+    const std::string path = tempFile("bad.yaml", yaml);
+    const std::string m = messageOf([&] { loadCameraCalibrationFile(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << m;
+    EXPECT_NE(m.find(expected), std::string::npos) << "expected '" << expected << "' in: " << m;
+  }
+  EXPECT_NE(messageOf([] { loadCameraCalibrationFile("/nonexistent.yaml"); }).find("cannot read camera calibration '/nonexistent.yaml'"),
+            std::string::npos);
+}
+
+TEST(CalibrationYaml, APairWithAnImplausibleBaselineIsRefused) {
+  StereoCalibration pair{parseCameraCalibration(YAML::Load(kGoodCalibration)),
+                         parseCameraCalibration(YAML::Load(kGoodCalibration))};
+  pair.right.P(0, 3) = -500 * 1e12;
+  std::vector<std::string> problems = pair.validate();
+  ASSERT_EQ(problems.size(), 1U);
+  EXPECT_EQ(problems[0], "baseline -P_right[3] / P_right[0] = 1e+12 m is outside 0.01..2 m");
+  pair.right.P(0, 3) = -500 * 0.12;
+  EXPECT_TRUE(pair.validate().empty());
+}
+
+TEST(DetectorConfigYaml, YamlOfTheWrongShapeIsRefusedNotThrownThrough) {
+  for (const std::string yaml : {"{[a]: 1}", "quality: 5", "colours: {a: 1}", "colours: [1, 2]", "search_scale: [1]",
+                                 "stereo: {block_size: .nan}", "- 1", "quality: {too_dark_below: {x: 1}}"}) {
+    const std::string path = tempFile("config.yaml", yaml);
+    const std::string m = messageOf([&] { loadDetectorConfigFile(path); });
+    EXPECT_NE(m.find(path), std::string::npos) << yaml << ": " << m;
+  }
+}
