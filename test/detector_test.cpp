@@ -158,7 +158,7 @@ speed: fast
     EXPECT_NE(m.find("speed: unknown key"), std::string::npos) << m;
     EXPECT_NE(m.find("colours[0].hue: expected 2 numbers"), std::string::npos) << m;
     EXPECT_NE(m.find("colours[1].name: missing"), std::string::npos) << m;
-    EXPECT_NE(m.find("'magic' is not colour_mask or grey_threshold"), std::string::npos) << m;
+    EXPECT_NE(m.find("'magic' is not colour_mask, grey_threshold or learned"), std::string::npos) << m;
     EXPECT_NE(m.find("candidates.min_area_px: expected a number"), std::string::npos) << m;
     EXPECT_NE(m.find("stereo: need 0.05 < min_depth_m < max_depth_m"), std::string::npos) << "value problems too: " << m;
   }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <map>
 #include <stdexcept>
 
@@ -63,6 +64,7 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
 }
 
 ColourModel ColourModel::load(const std::string& path) {
+  if (!std::ifstream(path)) throw std::invalid_argument("colour model " + path + ": cannot be opened");
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ);

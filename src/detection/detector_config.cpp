@@ -127,7 +127,9 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     f.optional(n, "min_colour_fraction", "candidates.", c.candidates.min_colour_fraction);
     f.optional(n, "max_candidates", "candidates.", c.candidates.max_candidates);
   }
-  if (const YAML::Node m = root["colour_model"]) {
+  if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
+    f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, levels, max_proposals}");
+  } else if (m) {
     f.onlyKeys(m, "colour_model.", {"file", "min_confidence", "max_overlap", "background_scale", "levels", "max_proposals"});
     LearnedColourConfig& l = c.learned;
     f.optional(m, "file", "colour_model.", l.file);
