@@ -20,6 +20,57 @@ double overlap(const cv::Rect& a, const cv::Rect& b) {
   return inter / std::max(1, std::min(a.area(), b.area()));
 }
 
+/// Median of `values` (CV_32F) under `mask`.
+double medianUnder(const cv::Mat& values, const cv::Mat& mask) {
+  std::vector<float> v;
+  for (int y = 0; y < values.rows; ++y) {
+    for (int x = 0; x < values.cols; ++x) {
+      if (mask.at<std::uint8_t>(y, x)) v.push_back(values.at<float>(y, x));
+    }
+  }
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+/// The object's own silhouette around a proposal: where the saliency exceeds half its median inside the
+/// proposal (the edge of a blurred step lies halfway between object and water), the connected region that
+/// overlaps the proposal most. A proposal cut at a fixed level is too tight on a contrasted object (only its
+/// core) and too wide on a faint one (its halo); its size and its stereo silhouette need the edge. Kept as it
+/// is when the re-cut leaks into the surroundings (grows more than kMaxGrowth times).
+constexpr double kMaxGrowth = 3.0;
+void cutAtItsEdge(const WaterContrast& contrast, BlobProposal& b) {
+  const cv::Mat& saliency = contrast.saliency[static_cast<int>(b.kind)];
+  const double level = 0.5 * medianUnder(saliency(b.roi), b.mask);
+  if (!(level > 0)) return;
+  const int grow = std::max(b.roi.width, b.roi.height) / 2 + 4;
+  const cv::Rect window = (b.roi + cv::Size(2 * grow, 2 * grow) - cv::Point(grow, grow)) & cv::Rect(cv::Point(), saliency.size());
+  WaterContrast part;
+  part.saliency[static_cast<int>(b.kind)] = saliency(window);
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(salientMask(part, b.kind, level), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, window.tl());
+  double best_overlap = 0;
+  BlobProposal cut;
+  for (auto& contour : contours) {
+    const cv::Rect roi = cv::boundingRect(contour);
+    const double overlap = (roi & b.roi).area();
+    if (overlap <= best_overlap || contour.size() < 3) continue;
+    best_overlap = overlap;
+    cut.roi = roi;
+    cut.contour = std::move(contour);
+  }
+  if (cut.contour.empty()) return;
+  const double area = cv::contourArea(cut.contour);
+  if (area > kMaxGrowth * b.area_px || area < b.area_px / kMaxGrowth) return;
+  b.mask = cv::Mat::zeros(cut.roi.size(), CV_8UC1);
+  cv::drawContours(b.mask, std::vector<std::vector<cv::Point>>{cut.contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(),
+                   0, -cut.roi.tl());
+  b.roi = cut.roi;
+  b.contour = std::move(cut.contour);
+  b.area_px = area;
+  b.level = level;
+}
+
 std::string formatted(const char* format, double a, double b) {
   char text[96];
   std::snprintf(text, sizeof(text), format, a, b);
@@ -83,6 +134,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                               "more than candidates.max_candidates"});
       continue;
     }
+    cutAtItsEdge(out.contrast, n.proposal);
     Candidate c;
     c.colour_index = designated[n.verdict.colour];
     c.roi = n.proposal.roi;

@@ -29,6 +29,8 @@ const char* kUsage =
     "  --image         2D only: no right image, no calibration (colour, outline, roi, quality); repeatable\n"
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments\n"
     "  --config        detector configuration (default: the package's config/detector.yaml)\n"
+    "  --explain       also one line per region looked at and not reported, with why: {\"file\", \"rejected\":\n"
+    "                  {\"colour\", \"roi\", \"confidence\", \"reason\"}}\n"
     "Prints one JSON object per line per detection (DetectedObject field names plus the frame's quality),\n"
     "or one line with \"id\": null for a frame without detections; each frame's lines are written as soon as\n"
     "it is done. Unreadable, truncated or corrupt images, and images whose size the detector cannot take\n"
@@ -39,6 +41,7 @@ const char* kUsage =
 struct Options {
   std::string config, left_info, right_info, list;
   std::vector<std::string> left, right, images;
+  bool explain = false;
 };
 
 std::vector<std::string> expand(const std::string& pattern) {
@@ -59,6 +62,10 @@ Options parse(int argc, char** argv) {
     if (arg == "--help" || arg == "-h") {
       std::cout << kUsage;
       std::exit(0);
+    }
+    if (arg == "--explain") {
+      o.explain = true;
+      continue;
     }
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string value = argv[++i];
@@ -123,19 +130,22 @@ cv::Mat readImage(const std::string& path) {
 }
 
 /// The frame's lines, written out at once (a run stopped later keeps them).
-void print(const std::string& file, const DetectionResult& r, bool with_3d) {
+void print(const std::string& file, const DetectionResult& r, bool with_3d, bool explain) {
   if (r.objects.empty()) std::cout << emptyFrameJson(file, r.quality) << '\n';
   for (std::size_t i = 0; i < r.objects.size(); ++i) {
     std::cout << detectionJson(file, static_cast<int>(i), r.objects[i], r.quality, with_3d) << '\n';
+  }
+  for (const Rejection& rejected : explain ? r.rejected : std::vector<Rejection>{}) {
+    std::cout << rejectionJson(file, rejected) << '\n';
   }
   std::cout.flush();
 }
 
 /// Runs `detect` on one frame and prints its result; false (reported naming `name`) when it fails.
 template <typename Detect>
-bool runFrame(const std::string& name, const std::string& file, bool with_3d, Detect detect) {
+bool runFrame(const std::string& name, const std::string& file, bool with_3d, bool explain, Detect detect) {
   try {
-    print(file, detect(), with_3d);
+    print(file, detect(), with_3d, explain);
     return true;
   } catch (const std::exception& e) {  // std::invalid_argument for bad input; anything else is reported too
     std::cerr << "detect_files: " << name << ": " << e.what() << ", skipped" << std::endl;
@@ -161,13 +171,13 @@ int run(int argc, char** argv) {
   for (std::size_t i = 0; i < o.left.size(); ++i) {
     const cv::Mat left = readImage(o.left[i]), right = readImage(o.right[i]);
     if (left.empty() || right.empty() ||
-        !runFrame(o.left[i] + " / " + o.right[i], o.left[i], true, [&] { return stereo->detect(left, right); })) {
+        !runFrame(o.left[i] + " / " + o.right[i], o.left[i], true, o.explain, [&] { return stereo->detect(left, right); })) {
       ++skipped;
     }
   }
   for (const std::string& path : o.images) {
     const cv::Mat image = readImage(path);
-    if (image.empty() || !runFrame(path, path, false, [&] { return flat->detect2d(image); })) ++skipped;
+    if (image.empty() || !runFrame(path, path, false, o.explain, [&] { return flat->detect2d(image); })) ++skipped;
   }
   if (skipped > 0) std::cerr << "detect_files: " << skipped << " frame(s) skipped" << std::endl;
   return skipped > 0 ? 1 : 0;

@@ -21,4 +21,8 @@ std::string detectionJson(const std::string& file, int id, const Detection& d, c
 /// One line for a frame without detections: {"file": .., "id": null, "quality": {..}}.
 std::string emptyFrameJson(const std::string& file, const QualityReport& quality);
 
+/// One line for a region looked at and not reported: {"file": .., "rejected": {"colour": .., "roi": [x, y,
+/// width, height], "confidence": .., "reason": ..}}.
+std::string rejectionJson(const std::string& file, const Rejection& rejection);
+
 }  // namespace underwater_stereo
