@@ -39,6 +39,7 @@
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/ros_glue/compressed_image_publisher.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
 #include "underwater_stereo/ros_glue/stereo_input.h"
@@ -150,6 +151,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (!mount_frame.empty() && stereo_frame_.empty()) {
       problems.push_back(pnh.resolveName("stereo_frame") + ": needed with mount_frame (the left optical frame)");
     }
+    const auto compressed_config = ros_glue::CompressedImagePublisher::readParams(pnh, problems);
     if (!approximate) max_skew_s_ = 0.0;
     try {
       config_ = loadDetectorConfigFile(config_file);
@@ -168,6 +170,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     image_transport::ImageTransport private_it(pnh);
     image_pub_ = private_it.advertise("image", 2);
     snapshot_pub_ = private_it.advertise("snapshot", 2);
+    compressed_pub_ = std::make_unique<ros_glue::CompressedImagePublisher>(pnh, "image", compressed_config);
     if (!mount_frame.empty()) publishMount(mount_frame, mount_xyz, mount_rpy);
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<DetectorTuningConfig>>(reconfigure_mutex_, pnh);
@@ -372,11 +375,15 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));
     const bool want_snapshot = snapshot_pub_.getNumSubscribers() > 0 && !result.objects.empty();
-    if (image_pub_.getNumSubscribers() > 0 || want_snapshot) {
-      const sensor_msgs::ImagePtr annotated =
-          cv_bridge::CvImage(header, "bgr8", annotate(done.input.left.bgr(), result)).toImageMsg();
-      if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(annotated);
-      if (want_snapshot) snapshot_pub_.publish(annotated);
+    const bool want_image = image_pub_.getNumSubscribers() > 0, want_compressed = compressed_pub_->due();
+    if (want_image || want_snapshot || want_compressed) {
+      const cv::Mat image = annotate(done.input.left.bgr(), result);
+      if (want_compressed) compressed_pub_->publish(header, image);
+      if (want_image || want_snapshot) {
+        const sensor_msgs::ImagePtr annotated = cv_bridge::CvImage(header, "bgr8", image).toImageMsg();
+        if (want_image) image_pub_.publish(annotated);
+        if (want_snapshot) snapshot_pub_.publish(annotated);
+      }
     }
     ++processed_;
     std::lock_guard<std::mutex> lock(stats_mutex_);
@@ -459,6 +466,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Output.
   ros::Publisher objects_pub_, markers_pub_, cloud_pub_;
   image_transport::Publisher image_pub_, snapshot_pub_;
+  std::unique_ptr<ros_glue::CompressedImagePublisher> compressed_pub_;  ///< image/compressed for a tether
   tf2_ros::TransformBroadcaster broadcaster_;
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   boost::recursive_mutex reconfigure_mutex_;
