@@ -139,7 +139,8 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     params.optional("right/camera_name", right_name);
     for (const auto& [key, name] : {std::make_pair("left/camera_name", left_name),
                                     std::make_pair("right/camera_name", right_name)}) {
-      if (name.empty() || !std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isalnum(c) || c == '_'; })) {
+      const auto valid = [](unsigned char c) { return std::isalnum(c) || c == '_'; };
+      if (name.empty() || !std::all_of(name.begin(), name.end(), valid)) {
         problems.push_back(getPrivateNodeHandle().resolveName(key) + ": '" + name +
                            "' is not a camera_info_manager name (letters, digits, '_')");
       }

@@ -13,7 +13,9 @@ namespace ros_glue {
 
 std::vector<std::string> CompressedImagePublisher::Config::validate(const std::string& prefix) const {
   std::vector<std::string> p;
-  if (!(scale > 0 && scale <= 1)) p.push_back(prefix + "compressed_scale: must be in (0, 1], got " + std::to_string(scale));
+  if (!(scale > 0 && scale <= 1)) {
+    p.push_back(prefix + "compressed_scale: must be in (0, 1], got " + std::to_string(scale));
+  }
   if (!(max_rate_hz > 0 && max_rate_hz <= 100)) {
     p.push_back(prefix + "compressed_max_rate_hz: must be in (0, 100], got " + std::to_string(max_rate_hz));
   }
