@@ -12,6 +12,7 @@
 
 #include "ros_test_helpers.h"
 #include "underwater_stereo/DetectedObjectArray.h"
+#include "underwater_stereo/ros_glue/compressed_image_publisher.h"
 
 using namespace underwater_stereo;
 using underwater_stereo::test::waitFor;
@@ -47,6 +48,22 @@ TEST(DetectorCompressed, HalfSizeJpegOfTheAnnotatedImageWithThePairsHeader) {
     EXPECT_EQ(decoded.size(), cv::Size(320, 200)) << "small_pool is 640x400; compressed_scale 0.5";
     EXPECT_GT(cv::mean(decoded)[0] + cv::mean(decoded)[1] + cv::mean(decoded)[2], 30) << "an image, not black";
   }
+}
+
+TEST(CompressedImagePublisherConfig, DefaultsAreValidAndEveryBadValueIsNamed) {
+  ros_glue::CompressedImagePublisher::Config c;
+  EXPECT_TRUE(c.validate("~").empty());
+  c.scale = 0;
+  c.max_rate_hz = -1;
+  c.jpeg_quality = 101;
+  const auto problems = c.validate("/d/");
+  ASSERT_EQ(problems.size(), 3U);
+  EXPECT_EQ(problems[0].rfind("/d/compressed_scale", 0), 0U) << problems[0];
+  EXPECT_EQ(problems[1].rfind("/d/compressed_max_rate_hz", 0), 0U) << problems[1];
+  EXPECT_EQ(problems[2].rfind("/d/compressed_jpeg_quality", 0), 0U) << problems[2];
+  c = {};
+  c.scale = 1.5;
+  EXPECT_EQ(c.validate("").size(), 1U) << "scale above 1";
 }
 
 int main(int argc, char** argv) {
