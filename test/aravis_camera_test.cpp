@@ -69,6 +69,35 @@ TEST(AravisCamera, StreamsCompleteFramesWithTheConfiguredFormatAndReadsSettingsB
   camera.stop();
 }
 
+TEST(AravisCamera, AutoExposureOnACameraWithoutItStreamsAtItsCurrentValueNamingTheFeature) {
+  FakeCamera fake("UWS-T0");
+  ASSERT_TRUE(fake.running()) << "could not start a fake camera on 127.0.0.1";
+  CameraSettings s = fakeSettings();
+  s.exposure_us = 5000;
+  std::vector<std::string> report;
+  { AravisCamera fixed(s, report); }  // leaves the fake camera at 5000 us, gain 0
+  s.exposure_us = 0;  // auto: the fake camera has no ExposureAuto
+  s.gain = -1;        // auto
+  report.clear();
+  {
+    AravisCamera camera(s, report);
+    const bool gain_auto = camera.available("GainAuto");
+    ASSERT_EQ(camera.unsupported().size(), gain_auto ? 1U : 2U);
+    EXPECT_EQ(camera.unsupported()[0].rfind("ExposureAuto:", 0), 0U) << camera.unsupported()[0];
+    EXPECT_NE(camera.unsupported()[0].find("5000 us"), std::string::npos) << camera.unsupported()[0];
+    if (!gain_auto) EXPECT_EQ(camera.unsupported()[1].rfind("GainAuto:", 0), 0U) << camera.unsupported()[1];
+    EXPECT_NEAR(camera.getFloat("ExposureTimeAbs"), 5000, 1);
+    camera.start();
+    CameraFrame f;
+    EXPECT_TRUE(camera.next(f, 2000));
+    camera.stop();
+  }
+  s.exposure_us = 5000;
+  s.gain = 0;
+  AravisCamera fixed(s, report);
+  EXPECT_TRUE(fixed.unsupported().empty());
+}
+
 TEST(AravisCamera, ExposureAndGainChangeTheImageAsTheFakeCameraShowsIt) {
   FakeCamera fake("UWS-T2");
   std::vector<std::string> report;

@@ -166,8 +166,13 @@ AravisCamera::AravisCamera(const CameraSettings& s, std::vector<std::string>& re
     if (available("ExposureAuto")) setStringFeature(*this, "ExposureAuto", "Off");
     const double us = setFloatFeature(*this, {"ExposureTime", "ExposureTimeAbs"}, s.exposure_us);
     report.push_back("exposure " + toString(us) + " us (fixed)");
+  } else if (!available("ExposureAuto")) {
+    // A camera without the feature still streams, at its current value; a value it rejects is still refused.
+    const double us = getFloat(firstAvailable(*this, {"ExposureTime", "ExposureTimeAbs"}));
+    unsupported_.push_back("ExposureAuto: the camera has none, so it streams at its current exposure " + toString(us) +
+                           " us (exposure_us > 0 sets one)");
+    report.push_back(unsupported_.back());
   } else {
-    if (!available("ExposureAuto")) throw std::runtime_error("the camera has no ExposureAuto: set a fixed exposure_us");
     setStringFeature(*this, "ExposureAuto", "Continuous");
     for (const auto& [names, value] : {std::make_pair(std::vector<std::string>{"AutoExposureTimeLowerLimit",
                                                                                "AutoExposureTimeAbsLowerLimit"},
@@ -192,8 +197,14 @@ AravisCamera::AravisCamera(const CameraSettings& s, std::vector<std::string>& re
       }
       report.push_back("gain " + std::to_string(getInteger("GainRaw")) + " (raw, fixed)");
     }
+  } else if (!available("GainAuto")) {
+    const std::string gain = available("Gain") || available("GainAbs")
+                                 ? toString(getFloat(firstAvailable(*this, {"Gain", "GainAbs"}))) + " dB"
+                                 : std::to_string(getInteger(firstAvailable(*this, {"GainRaw"}))) + " (raw)";
+    unsupported_.push_back("GainAuto: the camera has none, so it streams at its current gain " + gain +
+                           " (gain >= 0 sets one)");
+    report.push_back(unsupported_.back());
   } else {
-    if (!available("GainAuto")) throw std::runtime_error("the camera has no GainAuto: set a fixed gain");
     setStringFeature(*this, "GainAuto", "Continuous");
     report.push_back("gain auto");
   }

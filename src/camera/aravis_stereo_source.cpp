@@ -137,6 +137,7 @@ void AravisStereoSource::runCamera(int s) {
     {
       std::lock_guard<std::mutex> lock(side.mutex);
       side.status.description = camera->description();
+      side.status.unsupported = camera->unsupported();
       side.status.state = "streaming";
       side.clock = ClockMapper();
       side.ids = FrameIdTracker();

@@ -4,7 +4,11 @@
 // same; test/sgbm_3way_matcher_test.cpp checks the result against cv::StereoSGBM pixel by pixel.
 #include "underwater_stereo/detection/sgbm_3way_matcher.h"
 
+// The AVX2 matcher exists only where AVX2 can: x86-64. Elsewhere (ARM64 Jetsons) compute() is OpenCV's matcher.
+#if defined(__x86_64__)
+#define UWS_SGBM_AVX2 1
 #include <immintrin.h>
+#endif
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -13,6 +17,8 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -26,6 +32,8 @@ constexpr int kStripes = 4;    ///< OpenCV matches in four row stripes, each wit
 constexpr int kDispScale = 16; ///< disparities in 1/16 px
 constexpr int kInvalid = -kDispScale;
 constexpr int kClip = 15;      ///< preFilterCap 0: OpenCV clips the Sobel response to +-15
+
+#ifdef UWS_SGBM_AVX2
 
 [[gnu::target("avx2")]] inline __m256i load(const Cost* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
 [[gnu::target("avx2")]] inline void store(Cost* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
@@ -404,6 +412,26 @@ class StripeMatcher {
   PrefilteredRow left_row_, right_row_;
 };
 
+/// OpenCV's 3WAY matcher with AVX2: its four row stripes, each starting its top-down path afresh a few rows above
+/// its first output row, then its 3x3 median.
+[[gnu::target("avx2")]] cv::Mat computeAvx2(const cv::Mat& left, const cv::Mat& right, const SgbmParams& params) {
+  cv::Mat disparity(left.size(), CV_16SC1, cv::Scalar(kInvalid));
+  const int h = left.rows;
+  const int stripe = static_cast<int>(std::ceil(h / static_cast<double>(kStripes)));
+  const int overlap = params.block_size / 2 + 1 + static_cast<int>(std::ceil(0.1 * stripe));
+  StripeMatcher matcher(left, right, params);
+  for (int s = 0; s < kStripes; ++s) {
+    const int start = std::max(std::min(s * stripe - overlap, h), 0), end = std::min((s + 1) * stripe, h);
+    // OpenCV finds a stripe's rows at their offset from where the stripe should start: in images so small that
+    // it starts clamped at row 0, rows come out shifted (and some never written), and so they do here.
+    const int shift = s == 0 ? 0 : s * stripe - overlap - start;
+    matcher.run(start, end, shift, s * stripe, end, disparity);
+  }
+  cv::medianBlur(disparity, disparity, 3);
+  return disparity;
+}
+#endif  // UWS_SGBM_AVX2
+
 }  // namespace
 
 std::vector<std::string> SgbmParams::validate() const {
@@ -425,8 +453,14 @@ Sgbm3WayMatcher::Sgbm3WayMatcher(const SgbmParams& params) : params_(params) {
 
 bool Sgbm3WayMatcher::accelerated() {
   static const bool avx2 = [] {
+    const char* off = std::getenv(kPortableMatcherEnv);
+    if (off != nullptr && std::strcmp(off, "") != 0 && std::strcmp(off, "0") != 0) return false;
+#ifdef UWS_SGBM_AVX2
     __builtin_cpu_init();  // in case this runs during static initialisation, before libgcc's own
     return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("sse4.1");
+#else
+    return false;
+#endif
   }();
   return avx2;
 }
@@ -437,28 +471,13 @@ cv::Mat Sgbm3WayMatcher::compute(const cv::Mat& left, const cv::Mat& right) cons
     throw std::invalid_argument("Sgbm3WayMatcher::compute: left and right must be CV_8UC1 of one size, wider than " +
                                 std::to_string(params_.num_disparities + params_.block_size) + " px");
   }
+#ifdef UWS_SGBM_AVX2
+  if (accelerated()) return computeAvx2(left, right, params_);
+#endif
   cv::Mat disparity;
-  if (!accelerated()) {
-    cv::StereoSGBM::create(0, params_.num_disparities, params_.block_size, params_.p1, params_.p2, params_.disp12_max_diff,
-                           0, params_.uniqueness_ratio, 0, 0, cv::StereoSGBM::MODE_SGBM_3WAY)
-        ->compute(left, right, disparity);
-    return disparity;
-  }
-  disparity.create(left.size(), CV_16SC1);
-  disparity.setTo(kInvalid);
-  // OpenCV's stripes: each starts its top-down path afresh a few rows above its first output row.
-  const int h = left.rows;
-  const int stripe = static_cast<int>(std::ceil(h / static_cast<double>(kStripes)));
-  const int overlap = params_.block_size / 2 + 1 + static_cast<int>(std::ceil(0.1 * stripe));
-  StripeMatcher matcher(left, right, params_);
-  for (int s = 0; s < kStripes; ++s) {
-    const int start = std::max(std::min(s * stripe - overlap, h), 0), end = std::min((s + 1) * stripe, h);
-    // OpenCV finds a stripe's rows at their offset from where the stripe should start: in images so small that
-    // it starts clamped at row 0, rows come out shifted (and some never written), and so they do here.
-    const int shift = s == 0 ? 0 : s * stripe - overlap - start;
-    matcher.run(start, end, shift, s * stripe, end, disparity);
-  }
-  cv::medianBlur(disparity, disparity, 3);
+  cv::StereoSGBM::create(0, params_.num_disparities, params_.block_size, params_.p1, params_.p2, params_.disp12_max_diff,
+                         0, params_.uniqueness_ratio, 0, 0, cv::StereoSGBM::MODE_SGBM_3WAY)
+      ->compute(left, right, disparity);
   return disparity;
 }
 

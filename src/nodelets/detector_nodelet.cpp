@@ -39,6 +39,7 @@
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/ros_glue/compressed_image_publisher.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/pairing_monitor.h"
@@ -149,6 +150,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (!mount_frame.empty() && stereo_frame_.empty()) {
       problems.push_back(pnh.resolveName("stereo_frame") + ": needed with mount_frame (the left optical frame)");
     }
+    const auto compressed_config = ros_glue::CompressedImagePublisher::readParams(pnh, problems);
     if (!approximate) max_skew_s_ = 0.0;
     try {
       config_ = loadDetectorConfigFile(config_file);
@@ -170,6 +172,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     image_transport::ImageTransport private_it(pnh);
     image_pub_ = private_it.advertise("image", 2);
     snapshot_pub_ = private_it.advertise("snapshot", 2);
+    compressed_pub_ = std::make_unique<ros_glue::CompressedImagePublisher>(pnh, "image", compressed_config);
     if (!mount_frame.empty()) publishMount(mount_frame, mount_xyz, mount_rpy);
     tracking_->start(pnh);
     enable_service_ = pnh.advertiseService("enable", &DetectorNodelet::onEnable, this);
@@ -406,11 +409,15 @@ class DetectorNodelet : public nodelet::Nodelet {
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));
     const bool want_snapshot = snapshot_pub_.getNumSubscribers() > 0 && !result.objects.empty();
-    if (image_pub_.getNumSubscribers() > 0 || want_snapshot) {
-      const sensor_msgs::ImagePtr annotated =
-          cv_bridge::CvImage(header, "bgr8", annotate(done.input.left.bgr(), result)).toImageMsg();
-      if (image_pub_.getNumSubscribers() > 0) image_pub_.publish(annotated);
-      if (want_snapshot) snapshot_pub_.publish(annotated);
+    const bool want_image = image_pub_.getNumSubscribers() > 0, want_compressed = compressed_pub_->due();
+    if (want_image || want_snapshot || want_compressed) {
+      const cv::Mat image = annotate(done.input.left.bgr(), result);
+      if (want_compressed) compressed_pub_->publish(header, image);
+      if (want_image || want_snapshot) {
+        const sensor_msgs::ImagePtr annotated = cv_bridge::CvImage(header, "bgr8", image).toImageMsg();
+        if (want_image) image_pub_.publish(annotated);
+        if (want_snapshot) snapshot_pub_.publish(annotated);
+      }
     }
     ++processed_;
     std::lock_guard<std::mutex> lock(stats_mutex_);
@@ -513,6 +520,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Output.
   ros::Publisher objects_pub_, markers_pub_, cloud_pub_;
   image_transport::Publisher image_pub_, snapshot_pub_;
+  std::unique_ptr<ros_glue::CompressedImagePublisher> compressed_pub_;  ///< image/compressed for a tether
   tf2_ros::StaticTransformBroadcaster static_broadcaster_;
   std::unique_ptr<ros_glue::ObjectTracking> tracking_;  ///< targets, tracks, landmarks (publish() calls it in order)
   ros::ServiceServer enable_service_;

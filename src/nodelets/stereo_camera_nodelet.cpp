@@ -11,6 +11,8 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <algorithm>
+#include <cctype>
 #include <memory>
 #include <stdexcept>
 
@@ -130,10 +132,25 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     std::string left_url, right_url;
     params.optional("left/camera_info_url", left_url);
     params.optional("right/camera_info_url", right_url);
+    // camera_info_manager's names (its default file is ~/.ros/camera_info/<name>.yaml): <namespace>_left and
+    // <namespace>_right, so that two heads on one vehicle do not share a calibration.
+    std::string ns = getNodeHandle().getNamespace().substr(1);
+    std::replace(ns.begin(), ns.end(), '/', '_');
+    std::string left_name = ns.empty() ? "left" : ns + "_left", right_name = ns.empty() ? "right" : ns + "_right";
+    params.optional("left/camera_name", left_name);
+    params.optional("right/camera_name", right_name);
+    for (const auto& [key, name] : {std::make_pair("left/camera_name", left_name),
+                                    std::make_pair("right/camera_name", right_name)}) {
+      const auto valid = [](unsigned char c) { return std::isalnum(c) || c == '_'; };
+      if (name.empty() || !std::all_of(name.begin(), name.end(), valid)) {
+        problems.push_back(getPrivateNodeHandle().resolveName(key) + ": '" + name +
+                           "' is not a camera_info_manager name (letters, digits, '_')");
+      }
+    }
     if (!problems.empty()) return;
     ros::NodeHandle left_nh(getNodeHandle(), "left"), right_nh(getNodeHandle(), "right");
-    left_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(left_nh, "left", left_url);
-    right_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(right_nh, "right", right_url);
+    left_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(left_nh, left_name, left_url);
+    right_info_ = std::make_unique<camera_info_manager::CameraInfoManager>(right_nh, right_name, right_url);
     for (const auto& [side, manager, url] : {std::make_tuple("left", left_info_.get(), left_url),
                                              std::make_tuple("right", right_info_.get(), right_url)}) {
       if (!manager->isCalibrated()) {
@@ -170,7 +187,12 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     const std::uint64_t previous = last_frames_[side];
     last_frames_[side] = c.frames;
     const double fps = static_cast<double>(c.frames - std::min(previous, c.frames));  // per 1 s update
-    if (c.state == "streaming") {
+    if (c.state == "streaming" && fps > 0 && !c.unsupported.empty()) {
+      std::string features;
+      for (const auto& u : c.unsupported) features += (features.empty() ? "" : ", ") + u.substr(0, u.find(':'));
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "streaming, but the camera lacks " + features +
+                                                                " (current values used)");
+    } else if (c.state == "streaming") {
       stat.summary(fps > 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN,
                    fps > 0 ? "streaming" : "streaming, no frames in the last second");
     } else {
@@ -183,6 +205,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     stat.add("missed frames (frame-id gaps)", c.missed_frames);
     stat.add("outages", c.outages);
     stat.add("last error", c.last_error.empty() ? std::string("none") : c.last_error);
+    for (const auto& u : c.unsupported) stat.add("unsupported " + u.substr(0, u.find(':')), u);
     stat.add("completed buffers", c.stream.completed);
     stat.add("failed (incomplete) buffers", c.stream.failed);
     stat.add("buffer underruns", c.stream.underruns);

@@ -64,8 +64,9 @@ std::string encodingOfPixelFormat(const std::string& pixel_format);
 
 class AravisCamera : public FeatureAccess {
  public:
-  /// Opens and configures the camera; values are read back and logged into `report` (one line each).
-  /// @throw std::runtime_error when it cannot be opened or refuses a setting (the message says which).
+  /// Opens and configures the camera; values are read back and logged into `report` (one line each). Automatic
+  /// exposure or gain on a camera without ExposureAuto or GainAuto leaves its current value (see unsupported()).
+  /// @throw std::runtime_error when it cannot be opened or refuses a value (the message says which).
   AravisCamera(const CameraSettings& settings, std::vector<std::string>& report);
   ~AravisCamera() override;
   AravisCamera(const AravisCamera&) = delete;
@@ -82,6 +83,9 @@ class AravisCamera : public FeatureAccess {
   bool connected() const;
   CameraStatistics statistics();
   const std::string& description() const { return description_; }
+  /// What the settings asked for and the camera lacks, one line each starting with the feature's name (e.g.
+  /// "ExposureAuto: ..."); the camera streams with its current value instead. Empty when it has everything.
+  const std::vector<std::string>& unsupported() const { return unsupported_; }
 
   // FeatureAccess over the camera's GenICam nodes.
   bool available(const std::string& name) const override;
@@ -97,6 +101,7 @@ class AravisCamera : public FeatureAccess {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::string description_;
+  std::vector<std::string> unsupported_;
 };
 
 }  // namespace underwater_stereo

@@ -39,6 +39,7 @@ struct CameraStatus {
   std::uint64_t frames = 0;         ///< complete frames received
   std::uint64_t missed_frames = 0;  ///< from frame-id gaps
   std::uint64_t outages = 0;        ///< times the camera was lost and reopened
+  std::vector<std::string> unsupported;  ///< AravisCamera::unsupported() of the open camera
   CameraStatistics stream;          ///< counters of the current stream
 };
 

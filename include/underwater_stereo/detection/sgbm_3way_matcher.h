@@ -7,7 +7,9 @@
 /// the same arithmetic (Birchfield-Tomasi pixel costs on the clipped horizontal Sobel and on the raw grey, block
 /// sums, the three paths' saturating 16-bit recurrences, uniqueness, parabolic sub-pixel refinement, the one-map
 /// left-right check, OpenCV's four row stripes and its 3x3 median) 16 disparities at a time with AVX2, and breaks
-/// ties between equal costs the way OpenCV's 8-lane search does. Without AVX2 it calls cv::StereoSGBM itself.
+/// ties between equal costs the way OpenCV's 8-lane search does. Without AVX2 it calls cv::StereoSGBM itself: on
+/// every CPU other than x86-64 (the AVX2 code is compiled for x86-64 only), on x86-64 CPUs without AVX2, and when
+/// the environment variable UWS_PORTABLE_MATCHER is set (not empty, not "0"), which keeps that path testable.
 
 #include <opencv2/core.hpp>
 
@@ -39,7 +41,11 @@ class Sgbm3WayMatcher {
   /// @throw std::invalid_argument unless left and right are CV_8UC1 of one size wider than num_disparities.
   cv::Mat compute(const cv::Mat& left, const cv::Mat& right) const;
 
-  /// Whether this CPU runs the AVX2 matcher (otherwise compute() calls OpenCV's).
+  /// Environment variable that, set to anything but "" or "0", switches the AVX2 matcher off (read once per process).
+  static constexpr const char* kPortableMatcherEnv = "UWS_PORTABLE_MATCHER";
+
+  /// Whether compute() runs the AVX2 matcher: built for x86-64, this CPU has AVX2 and UWS_PORTABLE_MATCHER is not
+  /// set (otherwise compute() calls OpenCV's).
   static bool accelerated();
 
  private:
