@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Regression guard on randomised scenes (issue 14): the default configuration on a few held-out sampled pairs
+// must stay near its documented figures (docs/accuracy.md; thresholds a little below them: a small sample).
+#include <gtest/gtest.h>
+
+#include "../src/tools/random_evaluation.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/raw_frame.h"
+#include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene_sampler.h"
+
+using namespace underwater_stereo;
+
+TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
+  // Seeds 100000 and up are held out: never used to learn or tune (docs/accuracy.md).
+  constexpr std::uint64_t kFirstSeed = 100000;
+  constexpr int kPairs = 12;
+  const sim::SceneSamplerConfig sampler;
+  const sim::Renderer head(sim::sampleScene(kFirstSeed, sampler).scene);
+  const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
+  int eligible = 0, found = 0, colour_right = 0, false_detections = 0;
+  for (int i = 0; i < kPairs; ++i) {
+    const sim::SampledScene sampled = sim::sampleScene(kFirstSeed + i, sampler);
+    const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
+    const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
+    const tools::PairRecord r = tools::evaluatePair(sampled, pair, detector.detect(left, right), sim::meanLuma(left.bgr()));
+    for (const tools::ObjectRecord& o : r.objects) {
+      if (!o.eligible) continue;
+      ++eligible;
+      found += o.found;
+      colour_right += o.found && o.detected_colour == o.colour;
+    }
+    false_detections += static_cast<int>(r.false_detections.size());
+  }
+  SCOPED_TRACE("seeds 100000-100011");
+  ASSERT_GT(eligible, 15);
+  EXPECT_GE(found, 0.6 * eligible) << found << " of " << eligible << " found";
+  EXPECT_GE(colour_right, 0.65 * found) << colour_right << " of " << found << " named right";
+  EXPECT_LE(false_detections, 1.5 * kPairs) << false_detections << " false in " << kPairs << " pairs";
+}
