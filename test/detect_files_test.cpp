@@ -119,3 +119,22 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.lines.size(), pair_.ground_truth.size());
 }
+
+TEST_F(DetectFiles, ExplainListsWhatWasLookedAtAndNotReportedWithWhy) {
+  // A learnt model asked for unanimous trees: regions some colour got votes for are reported as rejected.
+  std::ofstream(path("strict.yaml")) << "colours: [{name: red}, {name: orange}, {name: yellow}, {name: green}]\n"
+                                        "candidates: {source: learned}\n"
+                                        "colour_model: {file: " UWS_SOURCE_DIR "/config/detector.colour_model.yml.gz, "
+                                        "min_confidence: 1.0}\n";
+  const std::string args = "--image " + path("left.png") + " --config " + path("strict.yaml");
+  const ToolRun explained = run(args + " --explain");
+  ASSERT_EQ(explained.status, 0);
+  int rejected = 0;
+  for (const auto& l : explained.lines) {
+    if (l.find("\"rejected\"") == std::string::npos) continue;
+    ++rejected;
+    EXPECT_NE(l.find("\"reason\": \"colour confidence"), std::string::npos) << l;
+  }
+  EXPECT_GT(rejected, 0);
+  for (const auto& l : run(args).lines) EXPECT_EQ(l.find("\"rejected\""), std::string::npos) << "only with --explain";
+}
