@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/blob_proposals.h"

@@ -225,10 +225,7 @@ std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config_.search_scale);
   if (assessQuality(small, config_.quality).spoiled()) return {};
   const cv::Mat searched = blurredForSearch(small, search_config_);
-  ProposalConfig proposals = config_.learned.proposals;
-  proposals.min_area_px = search_config_.candidates.min_area_px;
-  proposals.max_area_px = search_config_.candidates.max_area_px;
-  std::vector<BlobProposal> out = proposeBlobs(searched, measureWaterContrast(searched, config_.learned.water), proposals);
+  std::vector<BlobProposal> out = proposeLearned(searched, config_.learned, search_config_.candidates).regions;
   for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / config_.search_scale);
   return out;
 }

@@ -88,15 +88,23 @@ std::vector<std::string> LearnedColourConfig::validate() const {
   return p;
 }
 
+LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates) {
+  ProposalConfig proposals = config.proposals;
+  proposals.min_area_px = candidates.min_area_px;
+  proposals.max_area_px = candidates.max_area_px;
+  LearnedProposals out;
+  out.contrast = measureWaterContrast(bgr, config.water);
+  out.regions = proposeBlobs(bgr, out.contrast, proposals);
+  return out;
+}
+
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
                                     const LearnedColourConfig& config, const CandidateConfig& candidates) {
   requireBgr8(bgr, "findLearnedCandidates");
   if (!config.model || config.model->empty()) throw std::invalid_argument("findLearnedCandidates: no colour model loaded");
+  LearnedProposals proposed = proposeLearned(bgr, config, candidates);
   LearnedSearch out;
-  out.contrast = measureWaterContrast(bgr, config.water);
-  ProposalConfig proposals = config.proposals;
-  proposals.min_area_px = candidates.min_area_px;
-  proposals.max_area_px = candidates.max_area_px;
+  out.contrast = std::move(proposed.contrast);
   // The model's colour k is the config's class designated[k] (-1: learnt but not designated here).
   std::vector<int> designated;
   for (const std::string& name : config.model->colours()) {
@@ -108,7 +116,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     ColourVerdict verdict;
   };
   std::vector<Named> named;
-  for (BlobProposal& b : proposeBlobs(bgr, out.contrast, proposals)) {
+  for (BlobProposal& b : proposed.regions) {
     const ColourVerdict v = config.model->classify(b.features);
     if (v.colour < 0 || v.confidence < kExplainShare * config.min_confidence) continue;
     const std::string colour = config.model->colours()[v.colour];

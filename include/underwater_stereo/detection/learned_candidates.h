@@ -44,6 +44,15 @@ struct LearnedSearch {
   std::vector<Rejection> rejected;    ///< proposals some colour got votes for, not reported (searched-image pixels)
 };
 
+/// The water contrast of `bgr` (the searched image) and the regions proposed in it within the candidates' area
+/// limits: what findLearnedCandidates names, and what learn_colours learns from.
+struct LearnedProposals {
+  WaterContrast contrast;
+  std::vector<BlobProposal> regions;
+};
+/// @throw std::invalid_argument when bgr is not CV_8UC3 or a config is invalid.
+LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates);
+
 /// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
 /// colours, by name). @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
