@@ -251,6 +251,12 @@ int evaluatePaperBrightness(const DetectorConfig& config, const sim::SceneSample
 int evaluateRandom(const DetectorConfig& config, const std::string& config_path, const sim::SceneSamplerConfig& sampler,
                    const RandomOptions& opt) {
   const auto started = std::chrono::steady_clock::now();
+  std::ofstream json;  // opened first: a bad path fails before the long run, not after it
+  if (!opt.json_path.empty()) {
+    json.open(opt.json_path);
+    if (!json) throw std::runtime_error("cannot write " + opt.json_path);
+  }
+  if (opt.worst > 0) std::filesystem::create_directories(opt.worst_dir);
   // One head for every scene: its pixel rays are computed once.
   const sim::Renderer head(sim::sampleScene(opt.seed, sampler).scene);
   const Detector detector(config, head.calibration());
@@ -288,13 +294,11 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
   std::cout << std::fixed << std::setprecision(0) << "\nTime: sampling + rendering median " << tools::percentile(render_ms, 0.5)
             << " ms, detector median " << tools::percentile(detect_ms, 0.5) << " ms per pair; " << wall_ms / opt.pairs
             << " ms per pair wall-clock with " << opt.jobs << " job(s)\n";
-  if (!opt.json_path.empty()) {
-    std::ofstream json(opt.json_path);
+  if (json.is_open()) {
     tools::writeJson(json, records, config_path);
-    if (!json) throw std::runtime_error("cannot write " + opt.json_path);
+    if (!json.flush()) throw std::runtime_error("cannot write " + opt.json_path);
   }
   if (opt.worst > 0) {
-    std::filesystem::create_directories(opt.worst_dir);
     int rank = 0;
     for (const auto& [p, o] : tools::worstFailures(records, opt.worst)) {
       cv::Mat bgr;

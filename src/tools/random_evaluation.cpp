@@ -220,6 +220,18 @@ void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
   printObjectGroup(out, "colour", pairs, [](const ObjectRecord& o) { return o.colour; });
   printObjectGroup(out, "shape", pairs, [](const ObjectRecord& o) { return o.shape; });
   printObjectGroup(out, "cut by border", pairs, [](const ObjectRecord& o) { return o.cut_by_border ? "yes" : "no"; });
+  out << "\nRecall: eligible objects with a detection on them (any colour); colour and shape right: of those found.\n";
+  std::map<std::string, int> falses;
+  for (const auto& p : pairs) {
+    for (const auto& f : p.false_detections) {
+      const auto on = std::find_if(p.objects.begin(), p.objects.end(), [&](const ObjectRecord& o) { return o.name == f.on; });
+      falses[on == p.objects.end() ? "background" : on->designated ? "a second detection of one object"
+                                                                    : "a " + on->colour + " distractor"]++;
+    }
+  }
+  out << "False detections on:" << (falses.empty() ? " none" : "");
+  for (const auto& [what, n] : falses) out << " " << what << " " << n << ";";
+  out << "\n";
 }
 
 void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const std::string& config_path) {
