@@ -336,8 +336,13 @@ int main(int argc, char** argv) {
       auto integer = [&](long lo, long hi) {
         const std::string v = value();
         std::size_t used = 0;
-        const long n = std::stol(v, &used);
-        if (used != v.size() || n < lo || n > hi) {
+        long n = lo - 1;
+        try {
+          n = std::stol(v, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != v.size() || used == 0 || n < lo || n > hi) {
           throw std::invalid_argument(a + ": '" + v + "' is not an integer in [" + std::to_string(lo) + ", " +
                                       std::to_string(hi) + "]");
         }
@@ -347,7 +352,12 @@ int main(int argc, char** argv) {
       else if (a == "--paper-brightness") paper_brightness = true;
       else if (a == "--config") config_path = value();
       else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
-      else if (a == "--rate") rate = std::stod(value());
+      else if (a == "--rate") {
+        const std::string v = value();
+        char* end = nullptr;
+        rate = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0') throw std::invalid_argument("--rate: '" + v + "' is not a number");
+      }
       else if (a == "--random") random.pairs = static_cast<int>(integer(1, 10000000));
       else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
       else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
