@@ -123,6 +123,7 @@ Options parse(int argc, char** argv) {
     throw std::invalid_argument("give --images DIR --annotations DIR (in pairs)");
   }
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
+  if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   return o;
 }
 
