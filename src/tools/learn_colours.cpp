@@ -63,6 +63,21 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+/// `text` as a number in [lo, hi]; otherwise an error that starts with `what`.
+double numberIn(const std::string& text, double lo, double hi, const std::string& what) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(x >= lo && x <= hi)) {
+    throw std::invalid_argument(what + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return x;
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -73,20 +88,7 @@ Options parse(int argc, char** argv) {
     }
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string v = argv[++i];
-    auto number = [&](double lo, double hi) {
-      std::size_t used = 0;
-      double x = 0;
-      try {
-        x = std::stod(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || !(x >= lo && x <= hi)) {
-        throw std::invalid_argument(arg + " " + v + ": expected a number in [" + std::to_string(lo) + ", " +
-                                    std::to_string(hi) + "]");
-      }
-      return x;
-    };
+    auto number = [&](double lo, double hi) { return numberIn(v, lo, hi, arg + " " + v); };
     if (arg == "--images") o.images.push_back(v);
     else if (arg == "--annotations") o.annotations.push_back(v);
     else if (arg == "--out") o.out = v;
@@ -102,19 +104,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--balance") o.learning.training.balance = number(0, 1);
     else if (arg == "--min-confidence") o.min_confidence = number(0.01, 1);
     else if (arg == "--sweep") {
-      for (const std::string& item : split(v)) {
-        std::size_t used = 0;
-        double x = 0;
-        try {
-          x = std::stod(item, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != item.size() || !(x >= 0.01 && x <= 1)) {
-          throw std::invalid_argument("--sweep " + v + ": '" + item + "' is not a number in [0.01, 1]");
-        }
-        o.sweep.push_back(x);
-      }
+      for (const std::string& item : split(v)) o.sweep.push_back(numberIn(item, 0.01, 1, "--sweep " + v + ": '" + item + "'"));
       if (o.sweep.empty()) throw std::invalid_argument("--sweep needs at least one value");
     }
     else throw std::invalid_argument("unknown option " + arg);
