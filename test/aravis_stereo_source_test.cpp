@@ -31,7 +31,7 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
   config.left.id = "127.0.0.1";
   config.right.id = "127.0.0.2";
   config.sync = TriggerMode::kFreeRun;  // the two cameras' frames complete pairs on either thread
-  config.rate_hz = 40;
+  config.controls.rate_hz = 40;
   std::mutex mutex;
   std::vector<std::int64_t> stamps;
   std::vector<std::uint64_t> sequences;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "underwater_stereo/camera/genicam_features.h"
+#include "underwater_stereo/camera/stereo_source.h"
 
 namespace underwater_stereo {
 
@@ -51,6 +52,7 @@ struct CameraFrame {
   std::int64_t host_ns = 0;      ///< host receive time (system clock)
   std::uint32_t frame_id = 0;    ///< GigE Vision block id
   std::int64_t capture_ns = 0;   ///< capture time on the host clock (set by the stereo source, ClockMapper)
+  FrameCapture capture;          ///< exposure, gain, ... (set by the stereo source)
 };
 
 /// Stream counters (cumulative since opened).
@@ -95,6 +97,8 @@ class AravisCamera : public FeatureAccess {
   long getInteger(const std::string& name) const override;
   void setString(const std::string& name, const std::string& value) override;
   std::string getString(const std::string& name) const override;
+  void setBoolean(const std::string& name, bool value) override;
+  bool getBoolean(const std::string& name) const override;
   void execute(const std::string& name) override;
 
  private:
