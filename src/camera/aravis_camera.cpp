@@ -250,7 +250,11 @@ bool AravisCamera::next(CameraFrame& frame, int timeout_ms) {
       arv_stream_push_buffer(impl_->stream, buffer);
       continue;
     }
-    cv::Mat(height, width, type, const_cast<void*>(data)).copyTo(frame.image);
+    // The one copy of the frame: into storage that can become the published message's data.
+    auto pixels = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(width) * height * CV_ELEM_SIZE(type));
+    std::memcpy(pixels->data(), data, pixels->size());
+    frame.image = cv::Mat(height, width, type, pixels->data());
+    frame.pixels = std::move(pixels);
     frame.encoding = impl_->encoding;
     frame.device_ns = arv_buffer_get_timestamp(buffer);
     frame.host_ns = static_cast<std::int64_t>(arv_buffer_get_system_timestamp(buffer));

@@ -463,6 +463,8 @@ void AravisStereoSource::deliver(int side, CameraFrame frame, std::int64_t captu
   StereoFrame out;
   out.left = std::move(pair->first.image);
   out.right = std::move(pair->second.image);
+  out.left_pixels = std::move(pair->first.pixels);
+  out.right_pixels = std::move(pair->second.pixels);
   out.encoding = pair->first.encoding;
   out.capture_time_ns = pair->first.capture_ns;  // the left capture; the right one is within the skew
   out.left_capture = std::move(pair->first.capture);

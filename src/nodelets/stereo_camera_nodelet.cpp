@@ -79,6 +79,22 @@ FrameMetadataPtr toMetadata(const FrameCapture& c, const std_msgs::Header& heade
   return m;
 }
 
+/// The image message; with `pixels` (real cameras) their storage becomes its data, so a frame is copied once
+/// in all (out of the camera's buffer), and in one manager the detector receives it without serialisation.
+sensor_msgs::ImagePtr toImage(const std_msgs::Header& header, const std::string& encoding, const cv::Mat& image,
+                              const std::shared_ptr<std::vector<std::uint8_t>>& pixels) {
+  if (!pixels) return cv_bridge::CvImage(header, encoding, image).toImageMsg();
+  auto m = boost::make_shared<sensor_msgs::Image>();
+  m->header = header;
+  m->encoding = encoding;
+  m->height = static_cast<std::uint32_t>(image.rows);
+  m->width = static_cast<std::uint32_t>(image.cols);
+  m->step = static_cast<std::uint32_t>(image.cols * image.elemSize());
+  m->is_bigendian = 0;
+  m->data = std::move(*pixels);
+  return m;
+}
+
 }  // namespace
 
 class StereoCameraNodelet : public nodelet::Nodelet {
@@ -369,8 +385,8 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     }
     if (frame.left_capture) left_metadata_pub_.publish(toMetadata(*frame.left_capture, header));
     if (frame.right_capture) right_metadata_pub_.publish(toMetadata(*frame.right_capture, header));
-    left_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.left).toImageMsg(), left_info);
-    right_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.right).toImageMsg(), right_info);
+    left_pub_.publish(toImage(header, frame.encoding, frame.left, frame.left_pixels), left_info);
+    right_pub_.publish(toImage(header, frame.encoding, frame.right, frame.right_pixels), right_info);
   }
 
   std::string frame_id_ = "stereo_left_optical_frame";

@@ -46,7 +46,10 @@ struct CameraSettings {
 
 /// A received frame.
 struct CameraFrame {
-  cv::Mat image;                 ///< owns its pixels (copied out of the stream buffer)
+  cv::Mat image;                 ///< a view of `pixels`
+  /// The pixels, copied once out of the stream buffer into storage a receiver can take over (a ROS message's
+  /// data vector) without a second copy.
+  std::shared_ptr<std::vector<std::uint8_t>> pixels;
   std::string encoding;          ///< sensor_msgs encoding: bayer_rggb8, ..., mono8, rgb8
   std::uint64_t device_ns = 0;   ///< the camera's timestamp (0 if it has none)
   std::int64_t host_ns = 0;      ///< host receive time (system clock)

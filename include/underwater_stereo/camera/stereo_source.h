@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,9 @@ struct StereoFrame {
   std::vector<sim::GroundTruthObject> ground_truth;
   /// The simulated source only: the left optical frame's true pose in the scene's world frame.
   std::optional<Eigen::Isometry3d> camera_pose_world;
+  /// Real cameras only: the storage behind `left` and `right` (one copy out of the camera's buffer). The
+  /// receiver may move it into its message instead of copying; `left` and `right` must not be read after that.
+  std::shared_ptr<std::vector<std::uint8_t>> left_pixels, right_pixels;
   /// Real cameras only: how each frame was taken.
   std::optional<FrameCapture> left_capture, right_capture;
 };
