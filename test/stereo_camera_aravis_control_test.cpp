@@ -11,7 +11,9 @@
 #include <sensor_msgs/Image.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -200,6 +202,25 @@ TEST(StereoCameraAravisControl, MasterSlaveReconfigureMetadataAndOrder) {
   double param = 0;
   EXPECT_TRUE(ros::param::get("/stereo/camera/exposure_us", param));
   EXPECT_DOUBLE_EQ(param, 8000.0) << "the parameter server shows the value in use";
+
+  // The trigger rate while streaming: 10 -> 5 Hz, seen in the spacing of the capture stamps.
+  ASSERT_TRUE(client.getCurrentConfiguration(config, ros::Duration(5)));
+  config.rate_hz = 5;
+  ASSERT_TRUE(client.setConfiguration(config));
+  EXPECT_DOUBLE_EQ(config.rate_hz, 5.0);
+  ros::WallDuration(1.0).sleep();
+  const ros::Time slow = ros::Time::now();
+  ros::WallDuration(2.5).sleep();
+  {
+    std::lock_guard<std::mutex> lock(rx.mutex);
+    std::vector<double> gaps;
+    for (auto it = rx.left.lower_bound(slow); it != rx.left.end() && std::next(it) != rx.left.end(); ++it) {
+      gaps.push_back((std::next(it)->first - it->first).toSec());
+    }
+    ASSERT_GE(gaps.size(), 3U);
+    std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+    EXPECT_NEAR(gaps[gaps.size() / 2], 0.2, 0.05) << "median spacing of the left stamps at rate_hz 5";
+  }
 
   // Nothing was reopened for all this.
   ros::WallDuration(1.1).sleep();  // a fresh diagnostics update
