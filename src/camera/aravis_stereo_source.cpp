@@ -31,6 +31,7 @@ struct AravisStereoSource::Side {
   Exposure applied, previous;             ///< read back; previous: before applied_ns
   std::int64_t applied_ns = 0;            ///< host time the last change was sent
   std::atomic<bool> gain_db{false};      ///< read by the other side's thread (master_slave)
+  bool camera_auto = false;               ///< independent with the camera's own ExposureAuto/GainAuto running
 };
 
 namespace {
@@ -221,6 +222,9 @@ void AravisStereoSource::runCamera(int s) {
       for (const auto& line : report) log_(false, name + " camera: " + line);
       side.gain_db = gainInDb(*camera);
       side.applied = {exposureUs(*camera), gain(*camera)};
+      side.camera_auto = side.in_use.exposure_sync == ExposureSync::kIndependent &&
+                         ((settings.exposure_us <= 0 && camera->available("ExposureAuto")) ||
+                          (settings.gain < 0 && camera->available("GainAuto")));
       side.previous = side.applied;
       side.applied_ns = 0;
       startPtp(s, *camera);
@@ -315,6 +319,17 @@ void AravisStereoSource::runCamera(int s) {
             capture_ns = static_cast<std::int64_t>(frame.device_ns) + std::min(side.clock.offsetNs(), other.clock.offsetNs());
           } else {
             ptp = false;
+          }
+        }
+        if (side.camera_auto) {
+          // The camera's own auto functions move exposure and gain: read them as each frame arrives.
+          try {
+            side.applied = {exposureUs(*camera), gain(*camera)};
+            side.applied_ns = capture_ns;
+            std::lock_guard<std::mutex> lock(side.mutex);
+            side.status.exposure = side.applied;
+          } catch (const std::runtime_error&) {
+            // Unreachable camera: the frame timeout notices; this frame keeps the last values read.
           }
         }
         const Exposure& taken = capture_ns >= side.applied_ns ? side.applied : side.previous;

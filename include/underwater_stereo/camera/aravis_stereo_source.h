@@ -85,7 +85,8 @@ struct StereoStatus {
 /// Exposure (StereoControls::exposure_sync): in master_slave the left camera's thread meters each left frame
 /// inside auto_roi and asks both cameras for the next exposure and gain; each camera's thread applies it before
 /// its next trigger, so with software sync both frames of the next pair carry it (lag: one frame). Every frame
-/// carries the exposure and gain it was taken with (FrameCapture): those applied before its capture time.
+/// carries the exposure and gain it was taken with (FrameCapture): those applied before its capture time (in
+/// independent with the camera's own auto functions: read back as the frame arrives).
 /// PTP (ptp): enabled on both cameras after opening; once both are Master or Slave their timestamps share one
 /// timescale and both map to the host with one offset; a camera without PTP (or not settled within
 /// ptp_timeout_s) is reported in its status and the per-camera clock mapping is used.
