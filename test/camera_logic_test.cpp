@@ -47,6 +47,9 @@ TEST(FramePairer, FramesOutsideTheSkewNeverPairAndWaitingIsBounded) {
   for (int k = 0; k < 6; ++k) p.add(Pairer::kRight, 10'000'000 + k * 100'000'000LL, k);
   EXPECT_EQ(p.waiting(Pairer::kRight), 3U);
   EXPECT_EQ(p.pairs(), 0U);
+  p.setMaxSkewNs(10'000'000);  // a slower free-run rate: half its period
+  EXPECT_TRUE(p.add(Pairer::kLeft, 510'000'000 + 6'000'000, 9)) << "6 ms from right 5: within the new 10 ms";
+  EXPECT_EQ(p.pairs(), 1U);
 }
 
 TEST(FrameIdTracker, CountsGapsAcrossThe16BitWrapSkippingZero) {

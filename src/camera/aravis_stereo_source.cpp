@@ -129,7 +129,7 @@ std::vector<std::string> AravisStereoSource::reconfigure(const StereoControls& c
     AravisStereoConfig changed = config_;  // the pairing tolerance is half the new period
     changed.controls.rate_hz = controls.rate_hz;
     std::lock_guard<std::mutex> pair_lock(pair_mutex_);
-    pairer_ = FramePairer<CameraFrame>(static_cast<std::int64_t>(changed.effectiveMaxSkewS() * 1e9));
+    pairer_.setMaxSkewNs(static_cast<std::int64_t>(changed.effectiveMaxSkewS() * 1e9));
   }
   return problems;
 }
