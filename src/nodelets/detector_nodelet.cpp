@@ -36,6 +36,7 @@
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/ros_glue/compressed_image_publisher.h"
+#include "underwater_stereo/ros_glue/detector_reconfigure.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/pairing_monitor.h"
@@ -66,32 +67,6 @@ struct Processed {
   DetectionResult result;
   ros::WallTime start;
 };
-
-/// The operator's thresholds (dynamic_reconfigure) <-> the detector configuration.
-void toReconfigure(const DetectorConfig& c, DetectorTuningConfig& r) {
-  r.too_dark_below = c.quality.too_dark_below;
-  r.too_bright_above = c.quality.too_bright_above;
-  r.enhance_below = c.quality.enhance_below;
-  r.min_area_px = c.candidates.min_area_px;
-  r.min_colour_fraction = c.candidates.min_colour_fraction;
-  r.min_depth_m = c.stereo.min_depth_m;
-  r.max_depth_m = c.stereo.max_depth_m;
-  r.cluster_eps_m = c.cluster.eps_m;
-  r.cluster_min_points = c.cluster.min_points;
-}
-
-DetectorConfig fromReconfigure(DetectorConfig c, const DetectorTuningConfig& r) {
-  c.quality.too_dark_below = r.too_dark_below;
-  c.quality.too_bright_above = r.too_bright_above;
-  c.quality.enhance_below = r.enhance_below;
-  c.candidates.min_area_px = r.min_area_px;
-  c.candidates.min_colour_fraction = r.min_colour_fraction;
-  c.stereo.min_depth_m = r.min_depth_m;
-  c.stereo.max_depth_m = r.max_depth_m;
-  c.cluster.eps_m = r.cluster_eps_m;
-  c.cluster.min_points = r.cluster_min_points;
-  return c;
-}
 
 }  // namespace
 
@@ -187,7 +162,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<DetectorTuningConfig>>(reconfigure_mutex_, pnh);
     DetectorTuningConfig start;
-    toReconfigure(config_, start);
+    ros_glue::toReconfigure(config_, start);
     reconfigure_->updateConfig(start);
     reconfigure_->setCallback([this](DetectorTuningConfig& r, std::uint32_t) { onReconfigure(r); });
 
@@ -273,12 +248,14 @@ class DetectorNodelet : public nodelet::Nodelet {
     return true;
   }
 
-  void onReconfigure(const DetectorTuningConfig& r) {
-    const DetectorConfig next = fromReconfigure(config_, r);
+  /// A refused set is written back over `r` with the values in use (dynamic_reconfigure then shows those).
+  void onReconfigure(DetectorTuningConfig& r) {
+    const DetectorConfig next = ros_glue::fromReconfigure(config_, r);
     const auto problems = next.validate();
     if (!problems.empty()) {
       NODELET_ERROR_STREAM(joinProblems("DetectorNodelet: reconfiguration refused, keeping the previous values",
                                         problems));
+      ros_glue::toReconfigure(config_, r);
       return;
     }
     std::lock_guard<std::mutex> lock(detector_mutex_);
