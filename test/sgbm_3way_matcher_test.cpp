@@ -86,13 +86,7 @@ TEST(Sgbm3WayMatcher, SameDisparitiesAsOpenCvOnShiftedTextures) {
         const cv::Size size(num + 40 + static_cast<int>(rng() % 300), 20 + static_cast<int>(rng() % 120));
         const cv::Mat left = texture(size, rng, 1.0 + (rng() % 3));
         const int shift = static_cast<int>(rng() % num);
-        SgbmParams p;
-        p.num_disparities = num;
-        p.block_size = bs;
-        p.p1 = 8 * bs * bs;
-        p.p2 = 32 * bs * bs;
-        p.uniqueness_ratio = uniqueness;
-        expectSameAsOpenCv(left, shiftedView(left, shift, rng, 4), p,
+        expectSameAsOpenCv(left, shiftedView(left, shift, rng, 4), pipelineParams(num, bs, uniqueness),
                            "num " + std::to_string(num) + " bs " + std::to_string(bs) + " uniqueness " + std::to_string(uniqueness) +
                                " size " + std::to_string(size.width) + "x" + std::to_string(size.height));
       }
