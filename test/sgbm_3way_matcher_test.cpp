@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "underwater_stereo/detection/sgbm_3way_matcher.h"
 
@@ -43,7 +44,9 @@ cv::Mat texture(cv::Size size, std::mt19937& rng, double blur) {
   return noise;
 }
 
-void expectSameAsOpenCv(const cv::Mat& left, const cv::Mat& right, const SgbmParams& p, const std::string& what) {
+/// `expect_matches`: the scene must give some disparity (false for bands too narrow to hold a valid column).
+void expectSameAsOpenCv(const cv::Mat& left, const cv::Mat& right, const SgbmParams& p, const std::string& what,
+                        bool expect_matches = true) {
   const cv::Mat ours = Sgbm3WayMatcher(p).compute(left, right), reference = openCvDisparity(left, right, p);
   ASSERT_EQ(ours.type(), CV_16SC1) << what;
   ASSERT_EQ(ours.size(), reference.size()) << what;
@@ -56,7 +59,20 @@ void expectSameAsOpenCv(const cv::Mat& left, const cv::Mat& right, const SgbmPar
            << ours.at<short>(where[0]) << " vs OpenCV " << reference.at<short>(where[0]);
   }
   // A matcher that finds nothing would trivially agree on a blank: the scenes here must give disparities.
-  EXPECT_GT(cv::countNonZero(reference >= 0), 0) << what;
+  if (expect_matches) {
+    EXPECT_GT(cv::countNonZero(reference >= 0), 0) << what;
+  }
+}
+
+/// The penalties RoiStereoMatcher uses (OpenCV's recommended 8 and 32 per block pixel).
+SgbmParams pipelineParams(int num_disparities, int block_size, int uniqueness_ratio) {
+  SgbmParams p;
+  p.num_disparities = num_disparities;
+  p.block_size = block_size;
+  p.p1 = 8 * block_size * block_size;
+  p.p2 = 32 * block_size * block_size;
+  p.uniqueness_ratio = uniqueness_ratio;
+  return p;
 }
 
 }  // namespace
@@ -70,13 +86,7 @@ TEST(Sgbm3WayMatcher, SameDisparitiesAsOpenCvOnShiftedTextures) {
         const cv::Size size(num + 40 + static_cast<int>(rng() % 300), 20 + static_cast<int>(rng() % 120));
         const cv::Mat left = texture(size, rng, 1.0 + (rng() % 3));
         const int shift = static_cast<int>(rng() % num);
-        SgbmParams p;
-        p.num_disparities = num;
-        p.block_size = bs;
-        p.p1 = 8 * bs * bs;
-        p.p2 = 32 * bs * bs;
-        p.uniqueness_ratio = uniqueness;
-        expectSameAsOpenCv(left, shiftedView(left, shift, rng, 4), p,
+        expectSameAsOpenCv(left, shiftedView(left, shift, rng, 4), pipelineParams(num, bs, uniqueness),
                            "num " + std::to_string(num) + " bs " + std::to_string(bs) + " uniqueness " + std::to_string(uniqueness) +
                                " size " + std::to_string(size.width) + "x" + std::to_string(size.height));
       }
@@ -139,4 +149,46 @@ TEST(Sgbm3WayMatcher, RefusesBadParametersAndImages) {
   EXPECT_THROW(matcher.compute(grey, cv::Mat(20, 100, CV_8UC3)), std::invalid_argument);
   EXPECT_THROW(matcher.compute(grey(cv::Rect(0, 0, 20, 20)), grey(cv::Rect(0, 0, 20, 20))), std::invalid_argument);
   EXPECT_THROW(matcher.compute(cv::Mat(), cv::Mat()), std::invalid_argument);
+}
+
+// More than 64 disparities: the AVX2 matcher keeps its path costs in memory (matchRow<0>) instead of registers.
+// The pipeline searches that many when the silhouette is not found (the whole workspace: 0.5-5 m is ~400
+// disparities with f = 1820 px and B = 0.12 m) and for near objects. With UWS_PORTABLE_MATCHER=1 (or without
+// AVX2) compute() is OpenCV's own matcher: these then check that it is called with the same parameters.
+TEST(Sgbm3WayMatcher, SameDisparitiesAsOpenCvBeyond64DisparitiesUpToTheWorkspace) {
+  const unsigned seed = 13;
+  std::mt19937 rng(seed);
+  for (const int num : {80, 96, 128, 208, 400, 416, 512}) {
+    for (const int bs : {3, 5, 11}) {
+      const int uniqueness = std::vector<int>{0, 5, 15}[rng() % 3];
+      const cv::Size size(num + 40 + static_cast<int>(rng() % 300), 12 + static_cast<int>(rng() % 60));
+      const cv::Mat left = texture(size, rng, 1.0 + (rng() % 3));
+      const int shift = static_cast<int>(rng() % num);
+      expectSameAsOpenCv(left, shiftedView(left, shift, rng, 4), pipelineParams(num, bs, uniqueness),
+                         "seed " + std::to_string(seed) + " num " + std::to_string(num) + " bs " + std::to_string(bs) +
+                             " uniqueness " + std::to_string(uniqueness) + " shift " + std::to_string(shift) + " size " +
+                             std::to_string(size.width) + "x" + std::to_string(size.height));
+    }
+  }
+}
+
+// The band widths RoiStereoMatcher hands over: the narrowest a search fits in (num + block + 1, where it clips
+// the disparities near the image's left edge) and up to 15 px wider, an object's band, and a whole
+// 1920-px row; heights from one block to a tall object.
+TEST(Sgbm3WayMatcher, SameDisparitiesAsOpenCvAtTheBandWidthsThePipelineUses) {
+  const unsigned seed = 17;
+  std::mt19937 rng(seed);
+  const int bs = 5;
+  for (const int num : {16, 64, 80, 400}) {
+    for (const int width : {num + bs + 1, num + bs + 8, num + bs + 16, num + 24 + 250, 1920}) {
+      for (const int rows : {bs, 37}) {
+        const cv::Mat left = texture(cv::Size(width, rows), rng, 1.5);
+        const int shift = static_cast<int>(rng() % num);
+        expectSameAsOpenCv(left, shiftedView(left, shift, rng, 3), pipelineParams(num, bs, 5),
+                           "seed " + std::to_string(seed) + " num " + std::to_string(num) + " width " +
+                               std::to_string(width) + " rows " + std::to_string(rows),
+                           width >= num + 2 * bs + 16 && rows > bs);
+      }
+    }
+  }
 }

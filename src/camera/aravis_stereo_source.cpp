@@ -154,7 +154,7 @@ void AravisStereoSource::stop() {
   for (auto& side : sides_) {
     if (side->thread.joinable()) side->thread.join();
     std::lock_guard<std::mutex> lock(side->mutex);
-    side->status.state = "closed";
+    side->status.state = CameraState::kClosed;
   }
   std::unique_ptr<PairDelivery> delivery;
   {
@@ -195,7 +195,7 @@ void AravisStereoSource::runCamera(int s) {
     std::shared_ptr<AravisCamera> camera;
     {
       std::lock_guard<std::mutex> lock(side.mutex);
-      side.status.state = side.status.outages > 0 ? "reconnecting" : "opening";
+      side.status.state = side.status.outages > 0 ? CameraState::kReconnecting : CameraState::kOpening;
     }
     try {
       // Opened with the controls in use now (after an outage: the exposure master_slave had reached).
@@ -245,7 +245,7 @@ void AravisStereoSource::runCamera(int s) {
       side.status.description = camera->description();
       side.status.unsupported = camera->unsupported();
       if (config_.ptp && !side.status.ptp_settled) side.status.unsupported.push_back("PTP: " + side.status.ptp);
-      side.status.state = "streaming";
+      side.status.state = CameraState::kStreaming;
       side.status.exposure = side.applied;
       side.status.gain_unit = side.gain_db ? "dB" : "raw";
       side.clock = ClockMapper();
@@ -356,7 +356,7 @@ void AravisStereoSource::runCamera(int s) {
       if (!lost_reason.empty()) {
         ++side.status.outages;
         side.status.last_error = lost_reason;
-        side.status.state = "reconnecting";
+        side.status.state = CameraState::kReconnecting;
       }
     }
     if (!lost_reason.empty()) log_(true, name + " camera " + camera->description() + ": " + lost_reason + "; reopening");

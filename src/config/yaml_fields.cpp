@@ -2,7 +2,6 @@
 #include "underwater_stereo/config/yaml_fields.h"
 
 #include <algorithm>
-#include <cstring>
 #include <sstream>
 
 namespace underwater_stereo {
@@ -46,17 +45,19 @@ void YamlFields::notAMap(const YAML::Node& node, const std::string& path) {
 
 void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path,
                           std::initializer_list<const char*> allowed) {
+  onlyKeys(map, path, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed) {
   if (!map.IsMap()) {
     notAMap(map, path);
     return;
   }
   for (const auto& entry : map) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : YAML::Dump(entry.first);
-    const bool known = std::any_of(allowed.begin(), allowed.end(),
-                                   [&](const char* name) { return std::strcmp(name, key.c_str()) == 0; });
-    if (!known) {
+    if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       std::string names;
-      for (const char* name : allowed) names += std::string(names.empty() ? "" : ", ") + name;
+      for (const std::string& name : allowed) names += (names.empty() ? "" : ", ") + name;
       errors_.push_back(path + key + ": unknown key (known: " + names + ")");
     }
   }

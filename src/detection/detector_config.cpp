@@ -3,8 +3,11 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <opencv2/core/utility.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -36,7 +39,103 @@ bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
   return static_cast<bool>(node["hue"]);
 }
 
+/// The YAML keys of `section` read by hand, besides its tunables.
+const std::map<std::string, std::vector<std::string>> kOtherKeys = {
+    {"candidates", {"source", "threshold", "dark_objects"}}};
+
+/// Reads the tunables of `section` (and, but at the top level, refuses keys that are neither one nor in
+/// kOtherKeys).
+void readTunables(YamlFields& f, const YAML::Node& node, const std::string& section, DetectorConfig& c) {
+  std::vector<std::string> keys;
+  if (const auto other = kOtherKeys.find(section); other != kOtherKeys.end()) keys = other->second;
+  for (const DetectorTunable& t : detectorTunables()) {
+    if (t.section == section) keys.emplace_back(t.key);
+  }
+  if (!section.empty()) f.onlyKeys(node, section + ".", keys);  // the top level's keys are checked by hand
+  const std::string path = section.empty() ? "" : section + ".";
+  for (const DetectorTunable& t : detectorTunables()) {
+    if (t.section != section) continue;
+    if (t.real) f.optional(node, t.key, path, *t.real(c));
+    if (t.integer) f.optional(node, t.key, path, *t.integer(c));
+  }
+}
+
 }  // namespace
+
+// The field accessors: captureless lambdas (function pointers), one per row.
+#define UWS_REAL(field) [](DetectorConfig& c) { return &c.field; }, nullptr
+#define UWS_INT(field) nullptr, [](DetectorConfig& c) { return &c.field; }
+
+const std::vector<DetectorTunable>& detectorTunables() {
+  static const std::vector<DetectorTunable> table = {
+      // section, key, min, max, dynamic_reconfigure name, doc, field
+      {"quality", "too_dark_below", 0, 254, "too_dark_below", "Mean BT.601 luma under which a frame is spoiled",
+       UWS_REAL(quality.too_dark_below)},
+      {"quality", "too_bright_above", 1, 255, "too_bright_above", "Mean luma over which a frame is spoiled",
+       UWS_REAL(quality.too_bright_above)},
+      {"quality", "enhance_below", 0, 255, "enhance_below", "Usable frames darker than this get CLAHE before the search",
+       UWS_REAL(quality.enhance_below)},
+      {"quality", "dark_pixel_value", 0, 254, nullptr, "HSV V (0-255) under which a pixel counts as dark",
+       UWS_INT(quality.dark_pixel_value)},
+      {"quality", "bright_pixel_value", 1, 255, nullptr, "HSV V over which a pixel counts as bright (saturated)",
+       UWS_INT(quality.bright_pixel_value)},
+      {"quality", "clahe_clip_limit", 0.1, 100, nullptr, "CLAHE contrast limit", UWS_REAL(quality.clahe_clip_limit)},
+      {"quality", "clahe_tiles", 1, 64, nullptr, "CLAHE grid is tiles x tiles", UWS_INT(quality.clahe_tiles)},
+      {"candidates", "fixed_threshold", 0, 255, nullptr, "Grey level for threshold: fixed",
+       UWS_INT(candidates.fixed_threshold)},
+      {"candidates", "blur_kernel_px", 1, 51, nullptr, "Gaussian blur before grey thresholding [px, odd]",
+       UWS_INT(candidates.blur_kernel_px)},
+      {"candidates", "min_area_px", 1, 1.0e6, "min_area_px", "Smallest candidate contour [px]",
+       UWS_REAL(candidates.min_area_px)},
+      {"candidates", "max_area_px", 2, 1.0e9, nullptr, "Largest candidate contour [px]", UWS_REAL(candidates.max_area_px)},
+      {"candidates", "min_colour_fraction", 0.01, 1, "min_colour_fraction",
+       "Share of a contour's pixels in a designated colour", UWS_REAL(candidates.min_colour_fraction)},
+      {"candidates", "max_candidates", 1, 1000, nullptr, "The largest this many candidates are kept",
+       UWS_INT(candidates.max_candidates)},
+      {"stereo", "min_depth_m", 0.1, 50, "min_depth_m", "Workspace: nearest depth searched [m]",
+       UWS_REAL(stereo.min_depth_m)},
+      {"stereo", "max_depth_m", 0.2, 100, "max_depth_m", "Workspace: farthest depth searched [m]",
+       UWS_REAL(stereo.max_depth_m)},
+      {"stereo", "block_size", 3, 11, nullptr, "SGBM block [px, odd]", UWS_INT(stereo.block_size)},
+      {"stereo", "uniqueness_ratio", 0, 50, nullptr, "SGBM: the best cost beats the second by this [%]",
+       UWS_INT(stereo.uniqueness_ratio)},
+      {"stereo", "margin_px", 0, 200, nullptr, "Context around the ROI for matching [px]", UWS_INT(stereo.margin_px)},
+      {"stereo", "erode_px", 0, 50, nullptr, "The object's mask shrunk by this before matching [px]",
+       UWS_INT(stereo.erode_px)},
+      {"stereo", "max_points", 10, 1000000, nullptr, "Mask pixels sampled to at most about this many points",
+       UWS_INT(stereo.max_points)},
+      {"cluster", "eps_m", 0.001, 1, "cluster_eps_m", "DBSCAN neighbourhood radius [m]", UWS_REAL(cluster.eps_m)},
+      {"cluster", "min_points", 1, 10000, "cluster_min_points", "DBSCAN core point neighbours",
+       UWS_INT(cluster.min_points)},
+      {"shape", "min_points", 3, 1.0e6, nullptr, "Fewer points: shape unknown", UWS_REAL(shape.min_points)},
+      {"shape", "plane_preference", 1, 10, nullptr, "Margin by which the model the outline does not favour must win",
+       UWS_REAL(shape.plane_preference)},
+      {"shape", "min_elongation", 1, 20, nullptr, "Outline length/width from which an object may be a cylinder",
+       UWS_REAL(shape.min_elongation)},
+      {"shape", "box_face_contrast", 0.01, 1000, nullptr, "Shading split into flat faces this clearly: a box",
+       UWS_REAL(shape.box_face_contrast)},
+      {"", "min_cluster_points", 3, 1.0e6, nullptr, "An object needs this many 3D points in its main cluster",
+       UWS_INT(min_cluster_points)},
+      {"", "search_scale", 0.1, 1, nullptr, "The 2D stages run on the frame scaled by this",
+       UWS_REAL(search_scale)},
+  };
+  return table;
+}
+
+#undef UWS_REAL
+#undef UWS_INT
+
+std::string DetectorTunable::name() const { return *section ? std::string(section) + "." + key : std::string(key); }
+
+double DetectorTunable::get(const DetectorConfig& c) const {
+  auto& mutable_c = const_cast<DetectorConfig&>(c);  // the accessors serve reading and writing; nothing is written
+  return real ? *real(mutable_c) : *integer(mutable_c);
+}
+
+void DetectorTunable::set(DetectorConfig& c, double value) const {
+  if (real) *real(c) = value;
+  else *integer(c) = static_cast<int>(std::lround(value));
+}
 
 std::vector<std::string> DetectorConfig::validate() const {
   std::vector<std::string> p;
@@ -59,8 +158,16 @@ std::vector<std::string> DetectorConfig::validate() const {
       }
     }
   }
-  if (min_cluster_points < 3) p.push_back("min_cluster_points must be >= 3");
-  if (!(search_scale >= 0.1 && search_scale <= 1.0)) p.push_back("search_scale must be in [0.1, 1]");
+  for (const DetectorTunable& t : detectorTunables()) {
+    const double v = t.get(*this);
+    const auto named = [&t](const std::string& problem) {  // the section's own validate() said it already
+      return problem.find(t.key) != std::string::npos && problem.find(t.section) != std::string::npos;
+    };
+    if (!(v >= t.min && v <= t.max) && std::none_of(p.begin(), p.end(), named)) {
+      p.push_back(t.name() + " must be in [" + cv::format("%g", t.min) + ", " + cv::format("%g", t.max) + "], got " +
+                  cv::format("%g", v));
+    }
+  }
   return p;
 }
 
@@ -71,17 +178,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "colour_model", "stereo", "cluster",
                         "shape", "min_cluster_points", "search_scale"});
   if (!root.IsMap()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
-  if (const YAML::Node q = root["quality"]) {
-    f.onlyKeys(q, "quality.", {"too_dark_below", "too_bright_above", "enhance_below", "dark_pixel_value",
-                               "bright_pixel_value", "clahe_clip_limit", "clahe_tiles"});
-    f.optional(q, "too_dark_below", "quality.", c.quality.too_dark_below);
-    f.optional(q, "too_bright_above", "quality.", c.quality.too_bright_above);
-    f.optional(q, "enhance_below", "quality.", c.quality.enhance_below);
-    f.optional(q, "dark_pixel_value", "quality.", c.quality.dark_pixel_value);
-    f.optional(q, "bright_pixel_value", "quality.", c.quality.bright_pixel_value);
-    f.optional(q, "clahe_clip_limit", "quality.", c.quality.clahe_clip_limit);
-    f.optional(q, "clahe_tiles", "quality.", c.quality.clahe_tiles);
-  }
+  if (const YAML::Node q = root["quality"]) readTunables(f, q, "quality", c);
   std::vector<std::string> without_hue;
   if (const YAML::Node list = root["colours"]) {
     if (!list.IsSequence()) {
@@ -107,8 +204,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     f.optional(m, "close_kernel_px", "mask.", c.colours.close_kernel_px);
   }
   if (const YAML::Node n = root["candidates"]) {
-    f.onlyKeys(n, "candidates.", {"source", "threshold", "fixed_threshold", "dark_objects", "blur_kernel_px",
-                                  "min_area_px", "max_area_px", "min_colour_fraction", "max_candidates"});
+    readTunables(f, n, "candidates", c);
     std::string source = "colour_mask", threshold = "otsu";
     f.optional(n, "source", "candidates.", source);
     f.optional(n, "threshold", "candidates.", threshold);
@@ -119,13 +215,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     if (threshold == "otsu") c.candidates.threshold = ThresholdMode::kOtsu;
     else if (threshold == "fixed") c.candidates.threshold = ThresholdMode::kFixed;
     else f.fail("candidates.threshold: '" + threshold + "' is not otsu or fixed");
-    f.optional(n, "fixed_threshold", "candidates.", c.candidates.fixed_threshold);
     f.optional(n, "dark_objects", "candidates.", c.candidates.dark_objects);
-    f.optional(n, "blur_kernel_px", "candidates.", c.candidates.blur_kernel_px);
-    f.optional(n, "min_area_px", "candidates.", c.candidates.min_area_px);
-    f.optional(n, "max_area_px", "candidates.", c.candidates.max_area_px);
-    f.optional(n, "min_colour_fraction", "candidates.", c.candidates.min_colour_fraction);
-    f.optional(n, "max_candidates", "candidates.", c.candidates.max_candidates);
   }
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
     f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, levels, max_proposals}");
@@ -157,28 +247,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
       }
     }
   }
-  if (const YAML::Node s = root["stereo"]) {
-    f.onlyKeys(s, "stereo.", {"min_depth_m", "max_depth_m", "block_size", "uniqueness_ratio", "margin_px", "erode_px",
-                              "max_points"});
-    f.optional(s, "min_depth_m", "stereo.", c.stereo.min_depth_m);
-    f.optional(s, "max_depth_m", "stereo.", c.stereo.max_depth_m);
-    f.optional(s, "block_size", "stereo.", c.stereo.block_size);
-    f.optional(s, "uniqueness_ratio", "stereo.", c.stereo.uniqueness_ratio);
-    f.optional(s, "margin_px", "stereo.", c.stereo.margin_px);
-    f.optional(s, "erode_px", "stereo.", c.stereo.erode_px);
-    f.optional(s, "max_points", "stereo.", c.stereo.max_points);
-  }
-  if (const YAML::Node k = root["cluster"]) {
-    f.onlyKeys(k, "cluster.", {"eps_m", "min_points"});
-    f.optional(k, "eps_m", "cluster.", c.cluster.eps_m);
-    f.optional(k, "min_points", "cluster.", c.cluster.min_points);
-  }
-  if (const YAML::Node s = root["shape"]) {
-    f.onlyKeys(s, "shape.", {"min_points", "plane_preference", "min_elongation", "box_face_contrast"});
-    f.optional(s, "min_points", "shape.", c.shape.min_points);
-    f.optional(s, "plane_preference", "shape.", c.shape.plane_preference);
-    f.optional(s, "box_face_contrast", "shape.", c.shape.box_face_contrast);
-    f.optional(s, "min_elongation", "shape.", c.shape.min_elongation);
+  for (const char* section : {"stereo", "cluster", "shape"}) {
+    if (const YAML::Node node = root[section]) readTunables(f, node, section, c);
   }
   if (c.candidates.source != ContourSource::kLearned) {
     for (const std::string& path : without_hue) {
@@ -186,8 +256,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
                     "candidates.source is learned");
     }
   }
-  f.optional(root, "min_cluster_points", "", c.min_cluster_points);
-  f.optional(root, "search_scale", "", c.search_scale);
+  readTunables(f, root, "", c);
   // Every value problem too, not only the ones the reading found (a misread field keeps its valid default).
   const auto invalid = c.validate();
   problems.insert(problems.end(), invalid.begin(), invalid.end());

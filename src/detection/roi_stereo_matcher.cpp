@@ -25,6 +25,25 @@ constexpr int kDisparitySlack = 4;
 constexpr int kSilhouetteSlackPx = 3;
 /// The silhouette's whole-pixel shift is searched on every this many rows.
 constexpr int kCoarseRowStep = 4;
+/// A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its surface
+/// lies up to relief = d * (extent * kVisibleDepthShare) / f pixels of disparity in front of its outline (a
+/// sphere's rim) ...
+constexpr double kVisibleDepthShare = 0.5;
+/// ... or about relief / 2 either side of the outline's shift (a tilted panel): the window starts this many
+/// reliefs before the silhouette's disparity and spans this many reliefs in all.
+constexpr double kReliefBehind = 0.5, kReliefSpan = 1.5;
+/// SGBM's smoothness penalties per pixel of block area, the values OpenCV's documentation recommends for
+/// one channel (P1 = 8 * cn * block^2 for a disparity change of one, P2 = 32 * cn * block^2 for larger ones).
+constexpr int kP1PerBlockPixel = 8, kP2PerBlockPixel = 32;
+/// Left-right consistency [px]: a disparity the right-to-left check moves by more is refused (object edges).
+constexpr int kDisp12MaxDiff = 1;
+
+/// Block matching searches disparities in blocks of this many (SgbmParams::num_disparities, as OpenCV's
+/// numDisparities, must be a multiple).
+constexpr int kDisparityStep = 16;
+
+/// `n` disparities rounded up to whole steps.
+int roundUpToDisparityStep(int n) { return ((n + kDisparityStep - 1) / kDisparityStep) * kDisparityStep; }
 
 cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
   return cv::Matx33d(c.P(0, 0), c.P(0, 1), c.P(0, 2), c.P(1, 0), c.P(1, 1), c.P(1, 2), 0, 0, 1);
@@ -186,6 +205,45 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
 
 RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin) const {
+  checkMatchInputs(left, right, roi, mask, right_colour, right_colour_origin);
+  Stopwatch lap;
+  const cv::Rect box = rectifiedBox(roi);
+  RoiPoints out;
+  // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
+  // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
+  if (!right_colour.empty()) {
+    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, right_colour_origin, box);
+    // Outside the workspace it is a wrong match (or an object nearer or farther): not trusted.
+    if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
+  }
+  const MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
+  if (band.num_disparities < kDisparityStep || band.left.height < config_.block_size) {
+    out.rectify_ms = lap.lapMs();
+    return out;
+  }
+
+  const cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band.left);
+  const cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, band.right);
+  cv::Mat mask_band;
+  remapBand(mask, mask_band, left_map_xy_(band.left), left_map_fraction_(band.left), roi.tl(), cv::INTER_NEAREST);
+  if (config_.erode_px > 0) {
+    cv::erode(mask_band, mask_band,
+              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
+  }
+  out.mask_pixels = cv::countNonZero(mask_band);
+  out.rectify_ms = lap.lapMs();
+  if (out.mask_pixels == 0) return out;
+
+  const cv::Mat disparity16 = blockMatch(left_band, right_band, band.num_disparities);
+  out.matching_ms = lap.lapMs();
+  reproject(mask_band, disparity16, band, out);
+  out.reprojection_ms = lap.lapMs();
+  return out;
+}
+
+void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi,
+                                        const cv::Mat& mask, const cv::Mat& right_colour,
+                                        const cv::Point& right_colour_origin) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
   if (left.size() != size || right.size() != size) {
     throw std::invalid_argument("RoiStereoMatcher::match: left and right must be frames of the calibrated size " +
@@ -198,68 +256,49 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || (right_colour_rect & cv::Rect(cv::Point(), size)) != right_colour_rect)) {
     throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 and lie in the image");
   }
-  const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
-  const double d_min = f * baseline / config_.max_depth_m, d_max = f * baseline / config_.min_depth_m;
-  const auto [d_lo, d_hi] = workspaceDisparities();  // d_min and d_max in whole pixels, outwards
-  int min_disparity = d_lo;
-  int num_disparities = ((d_hi - d_lo + 15) / 16) * 16;
-  Stopwatch lap;
-  const cv::Rect box = rectifiedBox(roi);
-  RoiPoints out;
-  // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
-  // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
-  if (!right_colour.empty()) {
-    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, right_colour_origin, box);
-    if (std::isfinite(out.silhouette_disparity) &&
-        (out.silhouette_disparity < d_min || out.silhouette_disparity > d_max)) {
-      out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
-    }
-    if (std::isfinite(out.silhouette_disparity)) {
-      // A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its
-      // surface lies up to relief = d * (extent / 2) / f pixels of disparity in front of the outline (a
-      // sphere's rim), or about relief / 2 either side of the outline's shift (a tilted panel).
-      const double relief = out.silhouette_disparity * 0.5 * std::max(box.width, box.height) / f;
-      min_disparity = std::max(d_lo, static_cast<int>(std::floor(out.silhouette_disparity - 0.5 * relief)) - kDisparitySlack);
-      num_disparities = ((static_cast<int>(std::ceil(1.5 * relief)) + 2 * kDisparitySlack + 15) / 16) * 16;
-    }
-  }
+}
+
+RoiStereoMatcher::DisparityWindow RoiStereoMatcher::disparityWindow(double silhouette_disparity, const cv::Rect& box) const {
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  if (!std::isfinite(silhouette_disparity)) return {d_lo, roundUpToDisparityStep(d_hi - d_lo)};
+  const double f = calibration_.focalPx();
+  const double relief = silhouette_disparity * kVisibleDepthShare * std::max(box.width, box.height) / f;
+  return {std::max(d_lo, static_cast<int>(std::floor(silhouette_disparity - kReliefBehind * relief)) - kDisparitySlack),
+          roundUpToDisparityStep(static_cast<int>(std::ceil(kReliefSpan * relief)) + 2 * kDisparitySlack)};
+}
+
+RoiStereoMatcher::MatchBand RoiStereoMatcher::matchBand(const DisparityWindow& window, const cv::Rect& box) const {
+  const cv::Size size(calibration_.left.width, calibration_.left.height);
   // Left band: the box plus margin, widened to the left by the window so every object pixel has its whole
   // search range. Right band: the same rectangle moved left by the window's start, so block matching runs
   // with disparities 0..num-1 (true disparity = that + min_disparity) over a band min_disparity narrower.
-  cv::Rect band(box.x - config_.margin_px - num_disparities, box.y - config_.margin_px,
-                box.width + 2 * config_.margin_px + num_disparities, box.height + 2 * config_.margin_px);
-  band &= cv::Rect(min_disparity, 0, size.width - min_disparity, size.height);
-  const cv::Rect right_rect = band - cv::Point(min_disparity, 0);
+  MatchBand band;
+  band.min_disparity = window.min;
+  band.left = cv::Rect(box.x - config_.margin_px - window.num, box.y - config_.margin_px,
+                       box.width + 2 * config_.margin_px + window.num, box.height + 2 * config_.margin_px) &
+              cv::Rect(window.min, 0, size.width - window.min, size.height);
+  band.right = band.left - cv::Point(window.min, 0);
   // Near the left edge the band is clipped: only disparities that fit in it can be searched (the matcher needs
-  // the band wider than its disparities plus its block).
-  num_disparities = std::min(num_disparities, ((band.width - config_.block_size - 1) / 16) * 16);
-  if (num_disparities < 16 || band.height < config_.block_size) {
-    out.rectify_ms = lap.lapMs();
-    return out;
-  }
+  // the band wider than its disparities plus its block), in whole steps.
+  const int fitting = std::max(0, band.left.width - config_.block_size - 1);
+  band.num_disparities = std::min(window.num, (fitting / kDisparityStep) * kDisparityStep);
+  return band;
+}
 
-  cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band);
-  cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, right_rect);
-  cv::Mat mask_band;
-  remapBand(mask, mask_band, left_map_xy_(band), left_map_fraction_(band), roi.tl(), cv::INTER_NEAREST);
-  if (config_.erode_px > 0) {
-    cv::erode(mask_band, mask_band,
-              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
-  }
-  out.mask_pixels = cv::countNonZero(mask_band);
-  out.rectify_ms = lap.lapMs();
-  if (out.mask_pixels == 0) return out;
-
+cv::Mat RoiStereoMatcher::blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const {
   SgbmParams sgbm;
   sgbm.num_disparities = num_disparities;
   sgbm.block_size = config_.block_size;
-  sgbm.p1 = 8 * sgbm.block_size * sgbm.block_size;
-  sgbm.p2 = 32 * sgbm.block_size * sgbm.block_size;
+  sgbm.p1 = kP1PerBlockPixel * sgbm.block_size * sgbm.block_size;
+  sgbm.p2 = kP2PerBlockPixel * sgbm.block_size * sgbm.block_size;
   sgbm.uniqueness_ratio = config_.uniqueness_ratio;
-  sgbm.disp12_max_diff = 1;
-  const cv::Mat disparity16 = Sgbm3WayMatcher(sgbm).compute(left_band, right_band);
-  out.matching_ms = lap.lapMs();
+  sgbm.disp12_max_diff = kDisp12MaxDiff;
+  return Sgbm3WayMatcher(sgbm).compute(left_band, right_band);
+}
 
+void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band,
+                                 RoiPoints& out) const {
+  const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
@@ -268,18 +307,21 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     const auto* d = disparity16.ptr<short>(v);
     for (int u = 0; u < mask_band.cols; ++u) {
       if (!m[u] || d[u] < 0) continue;  // SGBM marks unmatched pixels with -16
-      const double disparity = d[u] / 16.0 + min_disparity;
+      const double disparity = d[u] / static_cast<double>(cv::StereoMatcher::DISP_SCALE) + band.min_disparity;
       const double z = f * baseline / disparity;
       if (z < config_.min_depth_m || z > config_.max_depth_m) continue;
       ++out.matched_pixels;
       if ((v % step) != 0 || (u % step) != 0) continue;
-      const cv::Vec3d rect((u + band.x - cx) * z / f, (v + band.y - cy) * z / f, z);
+      const cv::Vec3d rect((u + band.left.x - cx) * z / f, (v + band.left.y - cy) * z / f, z);
       const cv::Vec3d raw = left_r_transposed_ * rect;
       out.points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
     }
   }
-  out.reprojection_ms = lap.lapMs();
-  return out;
+}
+
+bool RoiStereoMatcher::inWorkspace(double disparity) const {
+  const double fb = calibration_.focalPx() * calibration_.baselineM();
+  return disparity >= fb / config_.max_depth_m && disparity <= fb / config_.min_depth_m;
 }
 
 std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Runs the Detector on synchronised stereo pairs: objects, annotated image and snapshot, markers, the
-// objects' cloud, a TF frame per object, diagnostics. `worker_threads` workers each take a pair; up to
-// `max_waiting_pairs` wait while all are busy (beyond that the oldest is dropped and counted). Results are
-// published in the order the pairs arrived (a worker that finishes early leaves its result and takes the next
-// pair).
+// objects' cloud, a TF frame per object, diagnostics. The pairs go to an OrderedWorkerPool (`worker_threads`
+// workers, `max_waiting_pairs` waiting, the oldest beyond dropped and counted, results published in the order
+// the pairs arrived); this file holds the configuration, the conversions and the publishing.
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
@@ -25,21 +24,19 @@
 #include <boost/bind/bind.hpp>
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
-#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include "underwater_stereo/DetectorTuningConfig.h"
+#include "underwater_stereo/common/ordered_worker_pool.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/ros_glue/compressed_image_publisher.h"
+#include "underwater_stereo/ros_glue/detector_reconfigure.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/pairing_monitor.h"
@@ -71,43 +68,12 @@ struct Processed {
   ros::WallTime start;
 };
 
-/// The operator's thresholds (dynamic_reconfigure) <-> the detector configuration.
-void toReconfigure(const DetectorConfig& c, DetectorTuningConfig& r) {
-  r.too_dark_below = c.quality.too_dark_below;
-  r.too_bright_above = c.quality.too_bright_above;
-  r.enhance_below = c.quality.enhance_below;
-  r.min_area_px = c.candidates.min_area_px;
-  r.min_colour_fraction = c.candidates.min_colour_fraction;
-  r.min_depth_m = c.stereo.min_depth_m;
-  r.max_depth_m = c.stereo.max_depth_m;
-  r.cluster_eps_m = c.cluster.eps_m;
-  r.cluster_min_points = c.cluster.min_points;
-}
-
-DetectorConfig fromReconfigure(DetectorConfig c, const DetectorTuningConfig& r) {
-  c.quality.too_dark_below = r.too_dark_below;
-  c.quality.too_bright_above = r.too_bright_above;
-  c.quality.enhance_below = r.enhance_below;
-  c.candidates.min_area_px = r.min_area_px;
-  c.candidates.min_colour_fraction = r.min_colour_fraction;
-  c.stereo.min_depth_m = r.min_depth_m;
-  c.stereo.max_depth_m = r.max_depth_m;
-  c.cluster.eps_m = r.cluster_eps_m;
-  c.cluster.min_points = r.cluster_min_points;
-  return c;
-}
-
 }  // namespace
 
 class DetectorNodelet : public nodelet::Nodelet {
  public:
   ~DetectorNodelet() override {
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stopping_ = true;
-    }
-    for (auto& h : handovers_) h->wake.notify_all();
-    for (std::thread& w : workers_) w.join();
+    if (pool_) pool_->stop();  // before the publishers and the detector it uses go
   }
 
  private:
@@ -121,6 +87,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     int queue_size = 5;
     int worker_threads = 2;
     int max_waiting_pairs = 2;
+    int opencv_threads = -1;
     std::string mount_frame;
     std::vector<double> mount_xyz{0, 0, 0}, mount_rpy{0, 0, 0};
     params.optional("config_file", config_file);
@@ -129,6 +96,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     params.optional("queue_size", queue_size);
     params.optional("worker_threads", worker_threads);
     params.optional("max_waiting_pairs", max_waiting_pairs);
+    params.optional("opencv_threads", opencv_threads);
     params.optional("mount_frame", mount_frame);
     params.optional("mount_xyz", mount_xyz);
     params.optional("mount_rpy", mount_rpy);
@@ -140,6 +108,9 @@ class DetectorNodelet : public nodelet::Nodelet {
     }
     if (max_waiting_pairs < 1 || max_waiting_pairs > 10) {
       problems.push_back(pnh.resolveName("max_waiting_pairs") + ": must be 1..10");
+    }
+    if (opencv_threads < -1 || opencv_threads > 64) {
+      problems.push_back(pnh.resolveName("opencv_threads") + ": must be -1 (leave OpenCV as it is) or 0..64");
     }
     if (!(max_dropped_share_ >= 0 && max_dropped_share_ <= 1)) {
       problems.push_back(pnh.resolveName("max_dropped_share") + ": must be in [0, 1]");
@@ -165,6 +136,18 @@ class DetectorNodelet : public nodelet::Nodelet {
       throw std::invalid_argument(message);
     }
 
+    // OpenCV's thread count is one setting for the whole process (every nodelet in this manager): only set
+    // when asked. With pairs in parallel, 1 saves the ~30 % CPU per pair that OpenCV's own loops spend handing
+    // work between threads fighting for the same cores (launch/detector.launch asks for it then).
+    if (opencv_threads >= 0) cv::setNumThreads(opencv_threads);
+    pool_ = std::make_unique<Pool>(
+        worker_threads, static_cast<std::size_t>(max_waiting_pairs), [this](Pair& pair) { return process(pair); },
+        [this](std::optional<Processed>& done) {
+          if (done) publish(*done);
+        },
+        [this](PoolStage stage, const std::string& what) {
+          badInput((stage == PoolStage::kProcess ? "processing failed: " : "publishing failed: ") + what);
+        });
     pairing_ = std::make_unique<ros_glue::PairingMonitor>(static_cast<std::size_t>(queue_size) + 2);
     objects_pub_ = pnh.advertise<DetectedObjectArray>("objects", 10);
     markers_pub_ = pnh.advertise<visualization_msgs::MarkerArray>("markers", 2);
@@ -179,7 +162,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
     reconfigure_ = std::make_unique<dynamic_reconfigure::Server<DetectorTuningConfig>>(reconfigure_mutex_, pnh);
     DetectorTuningConfig start;
-    toReconfigure(config_, start);
+    ros_glue::toReconfigure(config_, start);
     reconfigure_->updateConfig(start);
     reconfigure_->setCallback([this](DetectorTuningConfig& r, std::uint32_t) { onReconfigure(r); });
 
@@ -191,14 +174,6 @@ class DetectorNodelet : public nodelet::Nodelet {
       diagnostics_->force_update();
     });
 
-    if (worker_threads > 1) {
-      // Pairs in parallel, each on one core: OpenCV's own loops would only add threads fighting for the
-      // same cores (and ~30 % more CPU per pair spent handing work between them).
-      cv::setNumThreads(1);
-    }
-    max_waiting_ = static_cast<std::size_t>(max_waiting_pairs);
-    for (int i = 0; i < worker_threads; ++i) handovers_.push_back(std::make_unique<Handover>());
-    for (int i = 0; i < worker_threads; ++i) workers_.emplace_back([this, i] { work(i); });
     left_topic_ = nh.resolveName("left/image_raw");
     right_topic_ = nh.resolveName("right/image_raw");
     queue_size_ = queue_size;
@@ -220,9 +195,10 @@ class DetectorNodelet : public nodelet::Nodelet {
     NODELET_INFO_STREAM("DetectorNodelet: " << config_.colours.classes.size() << " designated colours from "
                         << config_file << ", " << (approximate ? "approximate" : "exact") << " sync on "
                         << left_topic_ << " / " << right_topic_ << ", objects on " << pnh.resolveName("objects")
-                        << ", " << worker_threads
-                        << (worker_threads > 1 ? " workers (pairs in parallel; OpenCV single-threaded in this process)"
-                                               : " worker (OpenCV's parallel loops within each pair)"));
+                        << ", " << worker_threads << " worker(s), OpenCV "
+                        << (opencv_threads < 0 ? "threads as the process has them (" + std::to_string(cv::getNumThreads()) + ")"
+                                               : "set to " + std::to_string(cv::getNumThreads()) +
+                                                     " thread(s) for this whole process"));
   }
 
   void publishMount(const std::string& mount_frame, const std::vector<double>& xyz, const std::vector<double>& rpy) {
@@ -272,89 +248,26 @@ class DetectorNodelet : public nodelet::Nodelet {
     return true;
   }
 
-  void onReconfigure(const DetectorTuningConfig& r) {
-    const DetectorConfig next = fromReconfigure(config_, r);
+  /// A refused set is written back over `r` with the values in use (dynamic_reconfigure then shows those).
+  void onReconfigure(DetectorTuningConfig& r) {
+    const DetectorConfig next = ros_glue::fromReconfigure(config_, r);
     const auto problems = next.validate();
     if (!problems.empty()) {
       NODELET_ERROR_STREAM(joinProblems("DetectorNodelet: reconfiguration refused, keeping the previous values",
                                         problems));
+      ros_glue::toReconfigure(config_, r);
       return;
     }
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(detector_mutex_);
     config_ = next;
-    rebuild_ = true;
+    rebuild_ = true;  // the next pair's worker builds the detector: not this thread, not the receiving one
   }
 
   void onPair(const ImageConstPtr& left, const CameraInfoConstPtr& left_info, const ImageConstPtr& right,
               const CameraInfoConstPtr& right_info) {
     ++received_;
     pairing_->paired(left->header.stamp.toSec(), right->header.stamp.toSec());
-    std::lock_guard<std::mutex> lock(mutex_);
-    Pair pair{left, right, left_info, right_info};
-    if (!idle_.empty()) {  // the worker idle last: its caches are the warmest
-      Handover& h = *handovers_[idle_.back()];
-      idle_.pop_back();
-      h.pair = std::move(pair);
-      h.turn = next_turn_++;
-      h.wake.notify_one();
-      return;
-    }
-    waiting_.push_back(std::move(pair));
-    if (waiting_.size() > max_waiting_) {  // the oldest goes: the freshest pairs are the useful ones
-      waiting_.pop_front();
-      ++dropped_;
-    }
-  }
-
-  void work(int index) {
-    Handover& handover = *handovers_[index];
-    while (true) {
-      Pair pair;
-      std::uint64_t turn = 0;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        if (!waiting_.empty()) {  // arrived while every worker was busy
-          pair = std::move(waiting_.front());
-          waiting_.pop_front();
-          turn = next_turn_++;
-        } else {
-          idle_.push_back(index);
-          handover.wake.wait(lock, [&] { return stopping_ || handover.pair.has_value(); });
-          if (stopping_) return;
-          pair = std::move(*handover.pair);
-          handover.pair.reset();
-          turn = handover.turn;
-        }
-      }
-      std::optional<Processed> done;
-      try {
-        done = process(std::move(pair));
-      } catch (const std::exception& e) {  // cv::Exception included: a pair must never take the manager down
-        badInput(std::string("processing failed: ") + e.what());
-      }
-      // Published in arrival order without holding the worker up: a result waits in finished_ for its turn, and
-      // whichever worker completes the next turn publishes every result then in order.
-      std::unique_lock<std::mutex> lock(mutex_);
-      finished_.emplace(turn, std::move(done));
-      if (stopping_) return;
-      if (publishing_) continue;
-      publishing_ = true;
-      for (auto next = finished_.find(publishing_turn_); next != finished_.end(); next = finished_.find(publishing_turn_)) {
-        std::optional<Processed> result = std::move(next->second);
-        finished_.erase(next);
-        ++publishing_turn_;
-        lock.unlock();
-        if (result) {
-          try {
-            publish(*result);
-          } catch (const std::exception& e) {
-            badInput(std::string("publishing failed: ") + e.what());
-          }
-        }
-        lock.lock();
-      }
-      publishing_ = false;
-    }
+    pool_->submit(Pair{left, right, left_info, right_info});
   }
 
   void badInput(const std::string& what) {
@@ -366,7 +279,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   }
 
   /// Detection on one pair; nothing when the pair is refused (counted as bad input).
-  std::optional<Processed> process(Pair pair) {
+  std::optional<Processed> process(Pair& pair) {
     Processed out;
     out.start = ros::WallTime::now();
     try {
@@ -378,7 +291,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     }
     std::shared_ptr<const Detector> detector;
     {
-      std::lock_guard<std::mutex> lock(mutex_);
+      std::lock_guard<std::mutex> lock(detector_mutex_);
       if (!detector_ || rebuild_ || out.input.calibration != calibration_) {  // any field: new rectification maps
         try {
           detector_ = std::make_shared<const Detector>(config_, out.input.calibration);
@@ -429,7 +342,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat) {
     const ros::WallTime now = ros::WallTime::now();
     const double elapsed = last_diagnosis_.isZero() ? 0.0 : (now - last_diagnosis_).toSec();
-    const long received = received_, processed = processed_, dropped = dropped_;
+    const long received = received_, processed = processed_, dropped = static_cast<long>(pool_->dropped());
     const double input_hz = elapsed > 0 ? (received - last_received_) / elapsed : 0.0;
     const double processed_hz = elapsed > 0 ? (processed - last_processed_) / elapsed : 0.0;
     const long received_now = received - last_received_, dropped_now = dropped - last_dropped_;
@@ -495,27 +408,14 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<message_filters::Synchronizer<ApproximatePolicy>> approximate_sync_;
   std::unique_ptr<ros_glue::PairingMonitor> pairing_;
 
-  /// A pair handed to an idle worker, with its turn.
-  struct Handover {
-    std::condition_variable wake;
-    std::optional<Pair> pair;
-    std::uint64_t turn = 0;
-  };
-  // A pair goes to the worker idle last, or waits (the latest max_waiting_) for one to finish; turns keep
-  // the output in arrival order (all guarded by mutex_, with config_, rebuild_, detector_).
-  std::mutex mutex_;
-  std::vector<std::unique_ptr<Handover>> handovers_;
-  std::vector<int> idle_;  ///< idle workers, the latest last
-  std::deque<Pair> waiting_;        ///< pairs that arrived while every worker was busy, oldest first
-  std::size_t max_waiting_ = 2;
-  bool stopping_ = false;
+  // The detector for the latest configuration and calibration; the workers share it (guarded by detector_mutex_
+  // with config_ and rebuild_).
+  std::mutex detector_mutex_;
   bool rebuild_ = false;
-  std::uint64_t next_turn_ = 0, publishing_turn_ = 0;
-  std::map<std::uint64_t, std::optional<Processed>> finished_;  ///< results (none: refused) waiting for their turn
-  bool publishing_ = false;                                      ///< a worker is publishing finished_ in order
   std::shared_ptr<const Detector> detector_;
   StereoCalibration calibration_;
-  std::vector<std::thread> workers_;
+  using Pool = OrderedWorkerPool<Pair, std::optional<Processed>>;
+  std::unique_ptr<Pool> pool_;
 
   // Output.
   ros::Publisher objects_pub_, markers_pub_, cloud_pub_;
@@ -532,7 +432,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   ros::WallTimer diagnostics_timer_;
-  std::atomic<long> received_{0}, processed_{0}, dropped_{0}, bad_inputs_{0};
+  std::atomic<long> received_{0}, processed_{0}, bad_inputs_{0};
   std::mutex stats_mutex_;
   std::string last_error_;
   ros::WallTime last_error_time_, last_diagnosis_;

@@ -316,19 +316,19 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     const std::uint64_t previous = last_frames_[side];
     last_frames_[side] = c.frames;
     const double fps = static_cast<double>(c.frames - std::min(previous, c.frames));  // per 1 s update
-    if (c.state == "streaming" && fps > 0 && !c.unsupported.empty()) {
+    if (c.state == CameraState::kStreaming && fps > 0 && !c.unsupported.empty()) {
       std::string features;
       for (const auto& u : c.unsupported) features += (features.empty() ? "" : ", ") + u.substr(0, u.find(':'));
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                    "streaming, but the camera lacks " + features + " (see 'unsupported ...')");
-    } else if (c.state == "streaming") {
+    } else if (c.state == CameraState::kStreaming) {
       stat.summary(fps > 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN,
                    fps > 0 ? "streaming" : "streaming, no frames in the last second");
     } else {
-      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, c.state + (c.last_error.empty() ? "" : ": " + c.last_error));
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, cameraStateName(c.state) + (c.last_error.empty() ? "" : ": " + c.last_error));
     }
     stat.add("camera", c.description);
-    stat.add("state", c.state);
+    stat.add("state", std::string(cameraStateName(c.state)));
     stat.add("exposure [us]", c.exposure.exposure_us);
     stat.add("gain [" + c.gain_unit + "]", c.exposure.gain_db);
     stat.add("PTP", c.ptp);

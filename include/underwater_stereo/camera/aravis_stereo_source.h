@@ -49,10 +49,24 @@ struct AravisStereoConfig {
   double effectiveMaxSkewS() const;
 };
 
+/// What a camera is doing.
+enum class CameraState { kClosed, kOpening, kStreaming, kReconnecting };
+
+/// "closed", "opening", "streaming", "reconnecting": the diagnostics' words.
+inline const char* cameraStateName(CameraState state) {
+  switch (state) {
+    case CameraState::kClosed: return "closed";
+    case CameraState::kOpening: return "opening";
+    case CameraState::kStreaming: return "streaming";
+    case CameraState::kReconnecting: return "reconnecting";
+  }
+  return "unknown";
+}
+
 /// What one camera is doing, for diagnostics.
 struct CameraStatus {
   std::string description;          ///< id, vendor, model, serial once opened
-  std::string state = "closed";     ///< closed, opening, streaming, reconnecting
+  CameraState state = CameraState::kClosed;
   std::string last_error;
   std::uint64_t frames = 0;         ///< complete frames received
   std::uint64_t missed_frames = 0;  ///< from frame-id gaps

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "underwater_stereo/sim/ground_truth.h"
+#include "underwater_stereo/common/ground_truth.h"
 
 namespace underwater_stereo {
 

@@ -56,6 +56,7 @@ class YamlFields {
 
   /// Records every key of `map` that is not in `allowed` (catches misspelt parameters).
   void onlyKeys(const YAML::Node& map, const std::string& path, std::initializer_list<const char*> allowed);
+  void onlyKeys(const YAML::Node& map, const std::string& path, const std::vector<std::string>& allowed);
 
   /// Records a problem that is not about one field's type.
   void fail(const std::string& message) { errors_.push_back(message); }

@@ -37,6 +37,30 @@ struct DetectorConfig {
   std::vector<std::string> validate() const;
 };
 
+/// One tunable number of the detector configuration: the single place its YAML name, field, accepted range and
+/// meaning are written. parseDetectorConfig reads these fields by it, DetectorConfig::validate refuses values
+/// outside its range, and the dynamic_reconfigure mapping (ros_glue) and its tests use it, so the .cfg, the
+/// YAML and the README cannot drift apart unnoticed.
+struct DetectorTunable {
+  const char* section;      ///< YAML section ("" at the top level)
+  const char* key;          ///< YAML key in that section
+  double min, max;          ///< accepted values, both ends included (the component's own validate() agrees)
+  const char* reconfigure;  ///< its name in cfg/DetectorTuning.cfg; nullptr when not tunable at run time
+  const char* doc;          ///< one line: what it does, with its unit
+  double* (*real)(DetectorConfig&);  ///< the field when it is a double (else nullptr)
+  int* (*integer)(DetectorConfig&);  ///< the field when it is an int (else nullptr)
+
+  /// "section.key" (or "key" at the top level).
+  std::string name() const;
+  double get(const DetectorConfig& c) const;
+  /// Sets the field (an int field takes the value rounded).
+  void set(DetectorConfig& c, double value) const;
+};
+
+/// Every tunable number, section by section (the colour lists, mask and colour_model sections, and the
+/// non-numeric keys, are read by hand).
+const std::vector<DetectorTunable>& detectorTunables();
+
 /// Parses the detector configuration (keys as in config/detector.yaml; missing keys keep their defaults).
 /// A relative colour_model.file is found in `base_dir` (the config file's folder; empty: the working folder).
 /// @throw std::invalid_argument listing every problem (unknown keys, wrong types, invalid values, a colour

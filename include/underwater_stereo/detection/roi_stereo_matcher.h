@@ -77,6 +77,31 @@ class RoiStereoMatcher {
   /// `box`: the object's rectified box (rectifiedBox(roi)).
   double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
                              const cv::Point& right_colour_origin, const cv::Rect& box) const;
+  /// The disparities block matching searches: [min, min + num), num in whole steps of 16.
+  struct DisparityWindow {
+    int min = 0, num = 0;
+  };
+  /// The rectified rectangles matched (the right one is the left moved left by min_disparity) and the
+  /// disparities searched in them (fewer than the window's near the image's left edge).
+  struct MatchBand {
+    cv::Rect left, right;
+    int min_disparity = 0, num_disparities = 0;
+  };
+
+  /// @throw std::invalid_argument as match() says.
+  void checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
+                        const cv::Mat& right_colour, const cv::Point& right_colour_origin) const;
+  /// Around a finite silhouette disparity by the expected relief of an object of rectified box `box`; else
+  /// the whole workspace.
+  DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
+  /// The band around `box` (plus the margin) that `window` needs, clipped to the image.
+  MatchBand matchBand(const DisparityWindow& window, const cv::Rect& box) const;
+  /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
+  cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
+  /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`).
+  void reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const;
+  /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
+  bool inWorkspace(double disparity) const;
   /// Disparities [px] of the workspace's far and near ends.
   std::pair<int, int> workspaceDisparities() const;
   /// The rectified box the left silhouette is read in, and the rectified columns (same rows) that hold it

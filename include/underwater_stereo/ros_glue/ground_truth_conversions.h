@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "underwater_stereo/sim/ground_truth.h"
+#include "underwater_stereo/common/ground_truth.h"
 
 namespace underwater_stereo {
 namespace ros_glue {

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "underwater_stereo/sim/ground_truth.h"
+#include "underwater_stereo/common/ground_truth.h"
 #include "underwater_stereo/sim/scene.h"
 #include "underwater_stereo/sim/stereo_rig.h"
 

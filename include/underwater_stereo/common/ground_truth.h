@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-/// @file Exact truth about one object of a rendered stereo pair.
+/// @file Exact truth about one object of a rendered stereo pair: plain data that the simulator fills and a
+/// StereoFrame (camera tier) carries, so it lives here and neither tier includes the other.
 
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
