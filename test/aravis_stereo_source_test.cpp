@@ -57,7 +57,7 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   });
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(6000));
   while (std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     std::lock_guard<std::mutex> lock(mutex);
