@@ -175,11 +175,22 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     diagnostics_->add("pairing", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnosePairing(s); });
     diagnostics_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
       last_status_ = aravis_->status();
+      warnUnsupported(last_status_.left, 0);
+      warnUnsupported(last_status_.right, 1);
       diagnostics_->force_update();
     });
     NODELET_INFO_STREAM("StereoCameraNodelet: source=aravis left=" << config.left.id << " right=" << config.right.id
                         << " sync=" << sync << " rate_hz=" << config.rate_hz << " max skew "
                         << config.effectiveMaxSkewS() * 1e3 << " ms frame_id=" << frame_id_);
+  }
+
+  /// A feature the configuration asks for and the camera lacks is a WARN in the log, once per list.
+  void warnUnsupported(const CameraStatus& c, int side) {
+    if (c.unsupported == warned_unsupported_[side]) return;
+    warned_unsupported_[side] = c.unsupported;
+    for (const auto& u : c.unsupported) {
+      NODELET_WARN_STREAM("StereoCameraNodelet: " << (side == 0 ? "left" : "right") << " camera lacks " << u);
+    }
   }
 
   void diagnoseCamera(diagnostic_updater::DiagnosticStatusWrapper& stat, int side) {
@@ -268,6 +279,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   ros::WallTimer diagnostics_timer_;
   StereoStatus last_status_;
+  std::vector<std::string> warned_unsupported_[2];
   std::uint64_t last_frames_[2] = {0, 0};
 };
 
