@@ -61,6 +61,9 @@ TEST(AravisCamera, StreamsCompleteFramesWithTheConfiguredFormatAndReadsSettingsB
   EXPECT_EQ(f.encoding, "bayer_rggb8");
   EXPECT_EQ(f.image.type(), CV_8UC1);
   EXPECT_EQ(f.image.size(), cv::Size(512, 512));
+  ASSERT_TRUE(f.pixels);
+  EXPECT_EQ(f.image.data, f.pixels->data()) << "the image is a view of the one copy a message can take over";
+  EXPECT_EQ(f.pixels->size(), 512U * 512U);
   EXPECT_GT(f.device_ns, 0U);
   EXPECT_GT(f.host_ns, 0);
   CameraFrame g;

@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "fake_gv_camera.h"
 #include "underwater_stereo/camera/aravis_stereo_source.h"
@@ -31,7 +33,7 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
   config.left.id = "127.0.0.1";
   config.right.id = "127.0.0.2";
   config.sync = TriggerMode::kFreeRun;  // the two cameras' frames complete pairs on either thread
-  config.rate_hz = 40;
+  config.controls.rate_hz = 40;
   std::mutex mutex;
   std::vector<std::int64_t> stamps;
   std::vector<std::uint64_t> sequences;
@@ -80,4 +82,45 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
   // Every pair formed was delivered or counted (those still queued when stopped are discarded: at most 4).
   EXPECT_LE(stamps.size() + status.overflowed + status.out_of_order, status.pairs);
   EXPECT_GE(stamps.size() + status.overflowed + status.out_of_order + 4, status.pairs);
+}
+
+TEST(AravisStereoSource, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFrameWasTakenWith) {
+  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
+    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
+  }
+  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
+  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
+  AravisStereoConfig config;
+  config.left.id = "127.0.0.1";
+  config.right.id = "127.0.0.2";
+  config.left.exposure_us = 3000;
+  config.right.exposure_us = 7000;  // independent: each as configured
+  for (CameraSettings* s : {&config.left, &config.right}) s->gain = -1;  // the fake's GainAuto
+  config.controls.exposure_sync = ExposureSync::kIndependent;
+  config.controls.rate_hz = 20;
+  std::mutex mutex;
+  std::vector<std::pair<FrameCapture, FrameCapture>> captures;
+  AravisStereoSource source(config, [](bool, const std::string&) {});
+  source.start([&](const StereoFrame& f) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (f.left_capture && f.right_capture) captures.emplace_back(*f.left_capture, *f.right_capture);
+  });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(10000));
+  while (std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::lock_guard<std::mutex> lock(mutex);
+    if (captures.size() >= 5) break;
+  }
+  source.stop();
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_GE(captures.size(), 5U);
+  for (const auto& [l, r] : captures) {
+    EXPECT_NEAR(l.exposure_us, 3000, 1);
+    EXPECT_NEAR(r.exposure_us, 7000, 1);
+    EXPECT_EQ(l.gain_unit, "raw");
+    EXPECT_NE(l.camera.find("UWS-L"), std::string::npos);
+    EXPECT_FALSE(l.ptp);
+  }
+  EXPECT_EQ(left_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 3000U);
+  EXPECT_EQ(right_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 7000U);
 }

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <string>
+#include <vector>
 #include <random>
 
+#include "underwater_stereo/camera/camera_controls.h"
 #include "underwater_stereo/camera/clock_mapper.h"
 #include "underwater_stereo/camera/frame_id_tracker.h"
 #include "underwater_stereo/camera/frame_pairer.h"
@@ -44,6 +47,9 @@ TEST(FramePairer, FramesOutsideTheSkewNeverPairAndWaitingIsBounded) {
   for (int k = 0; k < 6; ++k) p.add(Pairer::kRight, 10'000'000 + k * 100'000'000LL, k);
   EXPECT_EQ(p.waiting(Pairer::kRight), 3U);
   EXPECT_EQ(p.pairs(), 0U);
+  p.setMaxSkewNs(10'000'000);  // a slower free-run rate: half its period
+  EXPECT_TRUE(p.add(Pairer::kLeft, 510'000'000 + 6'000'000, 9)) << "6 ms from right 5: within the new 10 ms";
+  EXPECT_EQ(p.pairs(), 1U);
 }
 
 TEST(FrameIdTracker, CountsGapsAcrossThe16BitWrapSkippingZero) {
@@ -106,7 +112,10 @@ class MapCamera : public FeatureAccess {
     strings.at(n) = v;
   }
   std::string getString(const std::string& n) const override { return strings.at(n); }
-  void execute(const std::string&) override {}
+  void setBoolean(const std::string& n, bool v) override { floats.at(n) = v; }
+  bool getBoolean(const std::string& n) const override { return floats.at(n) != 0; }
+  void execute(const std::string& n) override { executed.push_back(n); }
+  std::vector<std::string> executed;
 };
 
 }  // namespace
@@ -138,4 +147,48 @@ TEST(GenicamFeatures, FallsBackBetweenFeatureNamesAndReportsRefusedValues) {
   EXPECT_EQ(newer.strings["TriggerMode"], "On");
   EXPECT_THROW(setStringFeature(newer, "TriggerMode", "Bad"), std::runtime_error);
   EXPECT_THROW(setStringFeature(newer, "TriggerSource", "Line1"), std::runtime_error);
+}
+
+TEST(CameraControls, ExposureAndGainByWhicheverNamesTheCameraHasAutoSwitchedOff) {
+  MapCamera older;  // GigE generation: ExposureTimeAbs, GainRaw, GainAuto
+  older.floats = {{"ExposureTimeAbs", 1000}, {"GainRaw", 0}};
+  older.strings = {{"GainAuto", "Continuous"}};
+  EXPECT_DOUBLE_EQ(setExposureUs(older, 4000), 4000);
+  EXPECT_FALSE(gainInDb(older));
+  EXPECT_DOUBLE_EQ(setGain(older, 3.4), 3) << "raw units, rounded";
+  EXPECT_EQ(older.strings["GainAuto"], "Off");
+  EXPECT_DOUBLE_EQ(gain(older), 3);
+  MapCamera newer;  // SFNC: ExposureTime, Gain [dB], ExposureAuto
+  newer.floats = {{"ExposureTime", 1000}, {"Gain", 0}};
+  newer.max = {{"ExposureTime", 10000}};
+  newer.strings = {{"ExposureAuto", "Continuous"}};
+  EXPECT_DOUBLE_EQ(setExposureUs(newer, 8000), 8000);
+  EXPECT_EQ(newer.strings["ExposureAuto"], "Off");
+  EXPECT_TRUE(gainInDb(newer));
+  EXPECT_DOUBLE_EQ(setGain(newer, 6.5), 6.5);
+  EXPECT_THROW(setExposureUs(newer, 20000), std::runtime_error) << "clamped to 10000 by the camera: refused";
+}
+
+TEST(CameraControls, PtpEnabledByEitherNameStateLatchedWhereNeededAbsentReported) {
+  MapCamera none;
+  none.floats = {{"ExposureTime", 1000}};
+  EXPECT_EQ(enablePtp(none), "");
+  EXPECT_EQ(ptpStatus(none), "");
+  EXPECT_FALSE(ptpSettled(""));
+  MapCamera sfnc;
+  sfnc.floats = {{"PtpEnable", 0}, {"PtpDataSetLatch", 0}};
+  sfnc.strings = {{"PtpStatus", "Listening"}};
+  EXPECT_EQ(enablePtp(sfnc), "PtpEnable");
+  EXPECT_EQ(sfnc.floats["PtpEnable"], 1);
+  EXPECT_EQ(ptpStatus(sfnc), "Listening");
+  EXPECT_EQ(sfnc.executed, std::vector<std::string>{"PtpDataSetLatch"});
+  EXPECT_FALSE(ptpSettled("Listening"));
+  sfnc.strings["PtpStatus"] = "Slave";
+  EXPECT_TRUE(ptpSettled(ptpStatus(sfnc)));
+  MapCamera gige;  // older Basler/FLIR: GevIEEE1588, GevIEEE1588Status
+  gige.floats = {{"GevIEEE1588", 0}};
+  gige.strings = {{"GevIEEE1588Status", "Master"}};
+  EXPECT_EQ(enablePtp(gige), "GevIEEE1588");
+  EXPECT_TRUE(ptpSettled(ptpStatus(gige)));
+  EXPECT_TRUE(gige.executed.empty());
 }

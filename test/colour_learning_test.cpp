@@ -103,6 +103,28 @@ TEST(ColourLearning, RecoversAKnownColourModel) {
   EXPECT_LE(score_.false_detections, 0.2 * score_.frames) << "white buoys or water reported";
 }
 
+TEST(ColourLearning, ScoresAtSeveralThresholdsAsDetectorsSetToEach) {
+  std::vector<LabelledFrame> train, test;
+  for (unsigned s = 0; s < 20; ++s) train.push_back(syntheticFrame(s));
+  for (unsigned s = 2000; s < 2015; ++s) test.push_back(syntheticFrame(s));
+  const LearningOptions o = options();
+  const auto model = std::make_shared<const ColourModel>(learnt(train, o));
+  const std::vector<double> thresholds{0.2, 0.4, 0.6, 0.8};
+  DetectorConfig c = learnedConfig(baseConfig(), "in memory", model, o);
+  c.learned.min_confidence = thresholds.front();
+  const std::vector<LearningScore> swept = scoreAt(Detector(c), test, o, thresholds);
+  ASSERT_EQ(swept.size(), thresholds.size());
+  for (std::size_t t = 0; t < thresholds.size(); ++t) {
+    c.learned.min_confidence = thresholds[t];
+    const LearningScore alone = score(Detector(c), test, o);
+    EXPECT_EQ(swept[t].found, alone.found) << "min_confidence " << thresholds[t];
+    EXPECT_EQ(swept[t].false_detections, alone.false_detections) << "min_confidence " << thresholds[t];
+    EXPECT_EQ(swept[t].confusion, alone.confusion) << "min_confidence " << thresholds[t];
+  }
+  EXPECT_THROW(scoreAt(Detector(c), test, o, {0.6, 0.4}), std::invalid_argument) << "not ascending";
+  EXPECT_THROW(scoreAt(Detector(c), test, o, {0.5}), std::invalid_argument) << "under the detector's own threshold";
+}
+
 TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
   std::vector<LabelledFrame> train;
   for (unsigned s = 0; s < 20; ++s) train.push_back(syntheticFrame(s));

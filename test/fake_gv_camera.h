@@ -3,6 +3,7 @@
 // Aravis' fake GigE Vision camera, run inside the test process (real GVCP/GVSP over UDP).
 #include <arv.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
@@ -33,6 +34,12 @@ class FakeGvCamera {
   bool running() const { return arv_gv_fake_camera_is_running(fake_); }
   /// Share (0-1) of stream packets the camera drops.
   void loseGvspPackets(double ratio) { g_object_set(fake_, "gvsp-lost-ratio", ratio, nullptr); }
+  /// The camera's own register, e.g. ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US, as the host set it.
+  std::uint32_t readRegister(std::uint32_t address) const {
+    guint32 value = 0;
+    arv_fake_camera_read_register(arv_gv_fake_camera_get_fake_camera(fake_), address, &value);
+    return value;
+  }
 
  private:
   ArvGvFakeCamera* fake_;

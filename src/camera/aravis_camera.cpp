@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "underwater_stereo/camera/camera_controls.h"
+
 namespace underwater_stereo {
 namespace {
 
@@ -163,13 +165,11 @@ AravisCamera::AravisCamera(const CameraSettings& s, std::vector<std::string>& re
     check(error, "cannot disable AcquisitionFrameRate");
   }
   if (s.exposure_us > 0) {
-    if (available("ExposureAuto")) setStringFeature(*this, "ExposureAuto", "Off");
-    const double us = setFloatFeature(*this, {"ExposureTime", "ExposureTimeAbs"}, s.exposure_us);
-    report.push_back("exposure " + toString(us) + " us (fixed)");
+    report.push_back("exposure " + toString(setExposureUs(*this, s.exposure_us)) + " us (fixed)");
   } else if (!available("ExposureAuto")) {
     // A camera without the feature still streams, at its current value; a value it rejects is still refused.
-    const double us = getFloat(firstAvailable(*this, {"ExposureTime", "ExposureTimeAbs"}));
-    unsupported_.push_back("ExposureAuto: the camera has none, so it streams at its current exposure " + toString(us) +
+    unsupported_.push_back("ExposureAuto: the camera has none, so it streams at its current exposure " +
+                           toString(exposureUs(*this)) +
                            " us (exposure_us > 0 sets one)");
     report.push_back(unsupported_.back());
   } else {
@@ -186,22 +186,10 @@ AravisCamera::AravisCamera(const CameraSettings& s, std::vector<std::string>& re
                      "] us");
   }
   if (s.gain >= 0) {
-    if (available("GainAuto")) setStringFeature(*this, "GainAuto", "Off");
-    if (available("Gain") || available("GainAbs")) {
-      report.push_back("gain " + toString(setFloatFeature(*this, {"Gain", "GainAbs"}, s.gain)) + " dB (fixed)");
-    } else {
-      setInteger(firstAvailable(*this, {"GainRaw"}), std::lround(s.gain));
-      if (getInteger("GainRaw") != std::lround(s.gain)) {
-        throw std::runtime_error("the camera refused GainRaw = " + toString(s.gain) + " (it reads " +
-                                 std::to_string(getInteger("GainRaw")) + ")");
-      }
-      report.push_back("gain " + std::to_string(getInteger("GainRaw")) + " (raw, fixed)");
-    }
+    report.push_back("gain " + toString(setGain(*this, s.gain)) + (gainInDb(*this) ? " dB" : " (raw)") + " (fixed)");
   } else if (!available("GainAuto")) {
-    const std::string gain = available("Gain") || available("GainAbs")
-                                 ? toString(getFloat(firstAvailable(*this, {"Gain", "GainAbs"}))) + " dB"
-                                 : std::to_string(getInteger(firstAvailable(*this, {"GainRaw"}))) + " (raw)";
-    unsupported_.push_back("GainAuto: the camera has none, so it streams at its current gain " + gain +
+    unsupported_.push_back("GainAuto: the camera has none, so it streams at its current gain " +
+                           toString(gain(*this)) + (gainInDb(*this) ? " dB" : " (raw)") +
                            " (gain >= 0 sets one)");
     report.push_back(unsupported_.back());
   } else {
@@ -262,7 +250,11 @@ bool AravisCamera::next(CameraFrame& frame, int timeout_ms) {
       arv_stream_push_buffer(impl_->stream, buffer);
       continue;
     }
-    cv::Mat(height, width, type, const_cast<void*>(data)).copyTo(frame.image);
+    // The one copy of the frame: into storage that can become the published message's data.
+    auto pixels = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(width) * height * CV_ELEM_SIZE(type));
+    std::memcpy(pixels->data(), data, pixels->size());
+    frame.image = cv::Mat(height, width, type, pixels->data());
+    frame.pixels = std::move(pixels);
     frame.encoding = impl_->encoding;
     frame.device_ns = arv_buffer_get_timestamp(buffer);
     frame.host_ns = static_cast<std::int64_t>(arv_buffer_get_system_timestamp(buffer));
@@ -343,6 +335,19 @@ std::string AravisCamera::getString(const std::string& name) const {
   const char* v = arv_device_get_string_feature_value(impl_->device, name.c_str(), &error);
   check(error, name);
   return v ? v : "";
+}
+
+void AravisCamera::setBoolean(const std::string& name, bool value) {
+  GError* error = nullptr;
+  arv_device_set_boolean_feature_value(impl_->device, name.c_str(), value ? TRUE : FALSE, &error);
+  check(error, name);
+}
+
+bool AravisCamera::getBoolean(const std::string& name) const {
+  GError* error = nullptr;
+  const gboolean v = arv_device_get_boolean_feature_value(impl_->device, name.c_str(), &error);
+  check(error, name);
+  return v;
 }
 
 void AravisCamera::execute(const std::string& name) {

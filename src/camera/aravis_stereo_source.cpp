@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "underwater_stereo/camera/camera_controls.h"
 #include "underwater_stereo/config/yaml_fields.h"
 
 namespace underwater_stereo {
@@ -18,20 +19,64 @@ constexpr std::chrono::milliseconds kStatisticsPeriod(1000);
 }  // namespace
 
 struct AravisStereoSource::Side {
-  CameraSettings settings;
-  std::mutex mutex;                       ///< guards status (the camera itself is used by its thread only)
+  CameraSettings settings;                ///< as configured; exposure, gain, rate from the controls at opening
+  std::mutex mutex;                       ///< guards status and clock (the camera is used by its thread only)
   ClockMapper clock;
   FrameIdTracker ids;
   CameraStatus status;
   std::thread thread;
+  // Used by the side's thread only:
+  StereoControls in_use;                  ///< the controls applied to the open camera
+  std::uint64_t seen_controls = 0, seen_wanted = 0;
+  Exposure applied, previous;             ///< read back; previous: before applied_ns
+  std::int64_t applied_ns = 0;            ///< host time the last change was sent
+  std::atomic<bool> gain_db{false};      ///< read by the other side's thread (master_slave)
+  bool camera_auto = false;               ///< independent with the camera's own ExposureAuto/GainAuto running
 };
+
+namespace {
+std::int64_t hostNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+bool sameExposure(const Exposure& a, const Exposure& b) {
+  return std::abs(a.exposure_us - b.exposure_us) <= 0.005 * b.exposure_us && std::abs(a.gain_db - b.gain_db) < 0.01;
+}
+
+/// Where master_slave and fixed start: fixed at the controls' values; auto from exposure_us (0: the geometric
+/// mean of the limits) and the gain (< 0: its lower limit).
+Exposure startExposure(const StereoControls& c) {
+  const AutoExposureSettings& a = c.auto_exposure;
+  return {c.exposure_us > 0 ? c.exposure_us : std::sqrt(a.exposure_min_us * a.exposure_max_us),
+          c.gain >= 0 ? c.gain : a.gain_min_db};
+}
+}  // namespace
+
+std::vector<std::string> StereoControls::validate() const {
+  std::vector<std::string> p = auto_exposure.validate("");
+  if (!(rate_hz > 0 && rate_hz <= 200)) p.push_back("rate_hz must be in (0, 200]");
+  if (packet_delay_ns < 0) p.push_back("packet_delay_ns must be >= 0");
+  if (!(exposure_us >= 0)) p.push_back("exposure_us must be >= 0");
+  if (exposure_sync == ExposureSync::kFixed && !(exposure_us > 0 && gain >= 0)) {
+    p.push_back("exposure_sync fixed needs exposure_us > 0 and gain >= 0");
+  }
+  if (exposure_sync == ExposureSync::kMasterSlave && exposure_us > 0 &&
+      !(exposure_us >= auto_exposure.exposure_min_us && exposure_us <= auto_exposure.exposure_max_us)) {
+    p.push_back("exposure_us (master_slave: where auto-exposure starts) must be 0 or within exposure_auto_min_us.."
+                "exposure_auto_max_us");
+  }
+  return p;
+}
 
 std::vector<std::string> AravisStereoConfig::validate() const {
   std::vector<std::string> p = left.validate("left");
   const auto r = right.validate("right");
   p.insert(p.end(), r.begin(), r.end());
+  const auto c = controls.validate();
+  p.insert(p.end(), c.begin(), c.end());
   if (left.pixel_format != right.pixel_format) p.push_back("left and right pixel_format differ");
-  if (!(rate_hz > 0 && rate_hz <= 200)) p.push_back("rate_hz must be in (0, 200]");
+  if (!(ptp_timeout_s > 0 && ptp_timeout_s <= 120)) p.push_back("ptp_timeout_s must be in (0, 120]");
   if (!(max_skew_s >= 0 && max_skew_s < 1)) p.push_back("max_skew_s must be in [0, 1)");
   if (!(frame_timeout_s > 0.05 && frame_timeout_s <= 60)) p.push_back("frame_timeout_s must be in (0.05, 60]");
   if (!(max_backoff_s >= 0.25 && max_backoff_s <= 300)) p.push_back("max_backoff_s must be in [0.25, 300]");
@@ -46,7 +91,7 @@ double AravisStereoConfig::effectiveMaxSkewS() const {
     case TriggerMode::kSoftware: return 0.005;
     case TriggerMode::kFreeRun: break;
   }
-  return 0.5 / rate_hz;
+  return 0.5 / controls.rate_hz;
 }
 
 AravisStereoSource::AravisStereoSource(const AravisStereoConfig& config, Log log)
@@ -57,8 +102,41 @@ AravisStereoSource::AravisStereoSource(const AravisStereoConfig& config, Log log
     sides_[s] = std::make_unique<Side>();
     sides_[s]->settings = s == 0 ? config_.left : config_.right;
     sides_[s]->settings.trigger = config_.sync;
-    sides_[s]->settings.frame_rate_hz = config_.rate_hz;
   }
+  controls_ = config_.controls;
+  wanted_ = startExposure(controls_);
+}
+
+std::vector<std::string> AravisStereoSource::reconfigure(const StereoControls& controls) {
+  auto problems = controls.validate();
+  if (!problems.empty()) return problems;
+  std::lock_guard<std::mutex> lock(controls_mutex_);
+  const StereoControls before = controls_;
+  controls_ = controls;
+  ++controls_generation_;
+  const AutoExposureSettings &a = controls.auto_exposure, &b = before.auto_exposure;
+  if (controls.exposure_sync != before.exposure_sync || controls.exposure_us != before.exposure_us ||
+      controls.gain != before.gain || controls.exposure_sync == ExposureSync::kFixed) {
+    wanted_ = startExposure(controls);
+    ++wanted_generation_;
+  } else if (a.exposure_min_us != b.exposure_min_us || a.exposure_max_us != b.exposure_max_us ||
+             a.gain_min_db != b.gain_min_db || a.gain_max_db != b.gain_max_db) {
+    wanted_.exposure_us = std::clamp(wanted_.exposure_us, a.exposure_min_us, a.exposure_max_us);
+    if (controls.gain < 0) wanted_.gain_db = std::clamp(wanted_.gain_db, a.gain_min_db, a.gain_max_db);
+    ++wanted_generation_;
+  }
+  if (controls.rate_hz != before.rate_hz && config_.sync == TriggerMode::kFreeRun) {
+    AravisStereoConfig changed = config_;  // the pairing tolerance is half the new period
+    changed.controls.rate_hz = controls.rate_hz;
+    std::lock_guard<std::mutex> pair_lock(pair_mutex_);
+    pairer_.setMaxSkewNs(static_cast<std::int64_t>(changed.effectiveMaxSkewS() * 1e9));
+  }
+  return problems;
+}
+
+StereoControls AravisStereoSource::controls() const {
+  std::lock_guard<std::mutex> lock(controls_mutex_);
+  return controls_;
 }
 
 AravisStereoSource::~AravisStereoSource() { stop(); }
@@ -98,6 +176,7 @@ StereoStatus AravisStereoSource::status() {
   out.pairs = pairer_.pairs();
   out.unpaired = pairer_.dropped();
   out.last_skew_ms = last_skew_ms_;
+  out.ptp_stamps = out.left.ptp_settled && out.right.ptp_settled;
   const PairDelivery::Counts delivery = delivery_ ? delivery_->counts() : delivered_before_;
   out.out_of_order = delivery.out_of_order;
   out.overflowed = delivery.overflowed;
@@ -119,9 +198,36 @@ void AravisStereoSource::runCamera(int s) {
       side.status.state = side.status.outages > 0 ? "reconnecting" : "opening";
     }
     try {
+      // Opened with the controls in use now (after an outage: the exposure master_slave had reached).
+      CameraSettings settings = side.settings;
+      {
+        std::lock_guard<std::mutex> lock(controls_mutex_);
+        side.in_use = controls_;
+        side.seen_controls = controls_generation_;
+        side.seen_wanted = wanted_generation_;
+        settings.frame_rate_hz = controls_.rate_hz;
+        settings.packet_delay_ns = controls_.packet_delay_ns;
+        settings.exposure_auto_min_us = controls_.auto_exposure.exposure_min_us;
+        settings.exposure_auto_max_us = controls_.auto_exposure.exposure_max_us;
+        if (controls_.exposure_sync != ExposureSync::kIndependent) {
+          settings.exposure_us = wanted_.exposure_us;
+          settings.gain = wanted_.gain_db;
+        } else {
+          if (controls_.exposure_us > 0) settings.exposure_us = controls_.exposure_us;
+          if (controls_.gain >= 0) settings.gain = controls_.gain;
+        }
+      }
       std::vector<std::string> report;
-      camera = std::make_shared<AravisCamera>(side.settings, report);
+      camera = std::make_shared<AravisCamera>(settings, report);
       for (const auto& line : report) log_(false, name + " camera: " + line);
+      side.gain_db = gainInDb(*camera);
+      side.applied = {exposureUs(*camera), gain(*camera)};
+      side.camera_auto = side.in_use.exposure_sync == ExposureSync::kIndependent &&
+                         ((settings.exposure_us <= 0 && camera->available("ExposureAuto")) ||
+                          (settings.gain < 0 && camera->available("GainAuto")));
+      side.previous = side.applied;
+      side.applied_ns = 0;
+      startPtp(s, *camera);
       camera->start();
     } catch (const std::runtime_error& e) {
       {
@@ -138,7 +244,10 @@ void AravisStereoSource::runCamera(int s) {
       std::lock_guard<std::mutex> lock(side.mutex);
       side.status.description = camera->description();
       side.status.unsupported = camera->unsupported();
+      if (config_.ptp && !side.status.ptp_settled) side.status.unsupported.push_back("PTP: " + side.status.ptp);
       side.status.state = "streaming";
+      side.status.exposure = side.applied;
+      side.status.gain_unit = side.gain_db ? "dB" : "raw";
       side.clock = ClockMapper();
       side.ids = FrameIdTracker();
     }
@@ -149,13 +258,25 @@ void AravisStereoSource::runCamera(int s) {
     auto last_frame = std::chrono::steady_clock::now();
     auto statistics_due = last_frame;
     std::string lost_reason;
+    bool reopen = false;
     // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (ticks of the steady
     // clock), so a camera that hangs or vanishes never delays the other's trigger.
-    const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(1.0 / config_.rate_hz));
+    auto periodOf = [](double rate_hz) {
+      return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
+    };
+    auto period = periodOf(side.in_use.rate_hz);
     auto tick = std::chrono::steady_clock::time_point(
         (std::chrono::steady_clock::now().time_since_epoch() / period + 1) * period);
     while (running_) {
+      if (!applyChanges(s, *camera)) {
+        reopen = true;
+        break;
+      }
+      if (periodOf(side.in_use.rate_hz) != period) {
+        period = periodOf(side.in_use.rate_hz);
+        tick = std::chrono::steady_clock::time_point(
+            (std::chrono::steady_clock::now().time_since_epoch() / period + 1) * period);
+      }
       int wait_ms = 100;
       if (config_.sync == TriggerMode::kSoftware) {
         const auto now = std::chrono::steady_clock::now();
@@ -179,12 +300,46 @@ void AravisStereoSource::runCamera(int s) {
       if (camera->next(frame, std::min(wait_ms, 100))) {
         last_frame = std::chrono::steady_clock::now();
         std::int64_t capture_ns = 0;
+        bool ptp = false;
         {
           std::lock_guard<std::mutex> lock(side.mutex);
           ++side.status.frames;
           side.status.missed_frames += side.ids.missedBefore(frame.frame_id);
           capture_ns = side.clock.toHost(frame.device_ns, frame.host_ns);
+          ptp = side.status.ptp_settled;
+          frame.capture.temperature_c = side.status.stream.temperature_c;
+          frame.capture.camera = side.status.description;
         }
+        if (ptp) {
+          // Both on one PTP timescale: one offset to the host clock for both (the smaller estimate, the one
+          // with the shorter transfer delay), so a pair's stamps differ by exactly their PTP difference.
+          Side& other = *sides_[1 - s];
+          std::lock_guard<std::mutex> lock(other.mutex);
+          if (other.status.ptp_settled && other.status.frames > 0) {
+            capture_ns = static_cast<std::int64_t>(frame.device_ns) + std::min(side.clock.offsetNs(), other.clock.offsetNs());
+          } else {
+            ptp = false;
+          }
+        }
+        if (side.camera_auto) {
+          // The camera's own auto functions move exposure and gain: read them as each frame arrives.
+          try {
+            side.applied = {exposureUs(*camera), gain(*camera)};
+            side.applied_ns = capture_ns;
+            std::lock_guard<std::mutex> lock(side.mutex);
+            side.status.exposure = side.applied;
+          } catch (const std::runtime_error&) {
+            // Unreachable camera: the frame timeout notices; this frame keeps the last values read.
+          }
+        }
+        const Exposure& taken = capture_ns >= side.applied_ns ? side.applied : side.previous;
+        frame.capture.frame_id = frame.frame_id;
+        frame.capture.device_ns = frame.device_ns;
+        frame.capture.ptp = ptp;
+        frame.capture.exposure_us = taken.exposure_us;
+        frame.capture.gain = taken.gain_db;
+        frame.capture.gain_unit = side.gain_db ? "dB" : "raw";
+        if (s == 0 && side.in_use.exposure_sync == ExposureSync::kMasterSlave) meter(frame);
         deliver(s, std::move(frame), capture_ns);
         continue;
       }
@@ -205,6 +360,7 @@ void AravisStereoSource::runCamera(int s) {
       }
     }
     if (!lost_reason.empty()) log_(true, name + " camera " + camera->description() + ": " + lost_reason + "; reopening");
+    if (reopen) log_(false, name + " camera: exposure_sync changed to or from independent; reopening");
     try {
       camera->stop();
     } catch (const std::runtime_error&) {
@@ -212,6 +368,102 @@ void AravisStereoSource::runCamera(int s) {
     }
     camera.reset();
   }
+}
+
+bool AravisStereoSource::applyChanges(int s, AravisCamera& camera) {
+  Side& side = *sides_[s];
+  StereoControls c;
+  Exposure wanted;
+  {
+    std::lock_guard<std::mutex> lock(controls_mutex_);
+    if (side.seen_controls == controls_generation_ && side.seen_wanted == wanted_generation_) return true;
+    c = controls_;
+    wanted = wanted_;
+    side.seen_controls = controls_generation_;
+    side.seen_wanted = wanted_generation_;
+  }
+  const StereoControls before = side.in_use;
+  const bool independent = c.exposure_sync == ExposureSync::kIndependent;
+  if (independent != (before.exposure_sync == ExposureSync::kIndependent) ||
+      (independent && (c.exposure_us != before.exposure_us || c.gain != before.gain ||
+                       c.auto_exposure.exposure_min_us != before.auto_exposure.exposure_min_us ||
+                       c.auto_exposure.exposure_max_us != before.auto_exposure.exposure_max_us))) {
+    return false;  // the camera's own auto functions are set up at opening
+  }
+  side.in_use = c;
+  const std::string name = s == 0 ? "left" : "right";
+  try {
+    if (c.packet_delay_ns != before.packet_delay_ns) camera.setInteger(firstAvailable(camera, {"GevSCPD"}), c.packet_delay_ns);
+    if (c.rate_hz != before.rate_hz && config_.sync == TriggerMode::kFreeRun) {
+      setFloatFeature(camera, {"AcquisitionFrameRate", "AcquisitionFrameRateAbs"}, c.rate_hz);
+    }
+    if (!independent && !sameExposure(wanted, side.applied)) {
+      const std::int64_t sent_ns = hostNowNs();
+      Exposure read{setExposureUs(camera, wanted.exposure_us), side.applied.gain_db};
+      if (std::abs(wanted.gain_db - side.applied.gain_db) >= 0.01) read.gain_db = setGain(camera, wanted.gain_db);
+      side.previous = side.applied;
+      side.applied = read;
+      side.applied_ns = sent_ns;
+      std::lock_guard<std::mutex> lock(side.mutex);
+      side.status.exposure = read;
+    }
+  } catch (const std::runtime_error& e) {
+    std::lock_guard<std::mutex> lock(side.mutex);
+    side.status.last_error = e.what();
+    log_(true, name + " camera: " + e.what());
+  }
+  return true;
+}
+
+void AravisStereoSource::meter(const CameraFrame& frame) {
+  StereoControls c;
+  {
+    std::lock_guard<std::mutex> lock(controls_mutex_);
+    c = controls_;
+  }
+  if (c.exposure_sync != ExposureSync::kMasterSlave) return;
+  AutoExposureSettings law = c.auto_exposure;
+  const Exposure taken{frame.capture.exposure_us, frame.capture.gain};
+  // Gain moves only when asked for (gain < 0) and both cameras take it in dB.
+  if (c.gain >= 0 || !sides_[0]->gain_db || !sides_[1]->gain_db) law.gain_min_db = law.gain_max_db = taken.gain_db;
+  const Exposure next = nextExposure(law, meanBrightness(frame.image, law.roi), taken);
+  std::lock_guard<std::mutex> lock(controls_mutex_);
+  if (controls_.exposure_sync == ExposureSync::kMasterSlave && !sameExposure(next, wanted_)) {
+    wanted_ = next;
+    ++wanted_generation_;
+  }
+}
+
+void AravisStereoSource::startPtp(int s, AravisCamera& camera) {
+  Side& side = *sides_[s];
+  const std::string name = s == 0 ? "left" : "right";
+  std::string state = "off";
+  bool settled = false;
+  if (config_.ptp) {
+    try {
+      const std::string feature = enablePtp(camera);
+      if (feature.empty()) {
+        state = "the camera has neither PtpEnable nor GevIEEE1588, so its frames are stamped by the clock mapping";
+      } else {
+        const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(config_.ptp_timeout_s);
+        std::string port = ptpStatus(camera);
+        while (running_ && !ptpSettled(port) && std::chrono::steady_clock::now() < end) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(100));
+          port = ptpStatus(camera);
+        }
+        settled = ptpSettled(port);
+        state = settled ? port
+                        : "not Master or Slave " + std::to_string(config_.ptp_timeout_s) + " s after " + feature +
+                              " (state " + port + "), so its frames are stamped by the clock mapping";
+      }
+    } catch (const std::runtime_error& e) {
+      state = std::string(e.what()) + ", so its frames are stamped by the clock mapping";
+    }
+    log_(!settled, name + " camera: PTP requested: " + state);
+  }
+  std::lock_guard<std::mutex> lock(side.mutex);
+  side.status.ptp = state;
+  side.status.ptp_settled = settled;
 }
 
 void AravisStereoSource::deliver(int side, CameraFrame frame, std::int64_t capture_ns) {
@@ -226,8 +478,12 @@ void AravisStereoSource::deliver(int side, CameraFrame frame, std::int64_t captu
   StereoFrame out;
   out.left = std::move(pair->first.image);
   out.right = std::move(pair->second.image);
+  out.left_pixels = std::move(pair->first.pixels);
+  out.right_pixels = std::move(pair->second.pixels);
   out.encoding = pair->first.encoding;
   out.capture_time_ns = pair->first.capture_ns;  // the left capture; the right one is within the skew
+  out.left_capture = std::move(pair->first.capture);
+  out.right_capture = std::move(pair->second.capture);
   delivery_->push(std::move(out));
 }
 

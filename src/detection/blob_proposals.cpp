@@ -4,7 +4,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/image_checks.h"
@@ -19,27 +21,72 @@ constexpr int kRingPx = 3;
 
 cv::Mat openKernel() { return cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpenPx, kOpenPx)); }
 
-std::vector<float> describe(const cv::Mat& bgr, const cv::Mat& hsv, const WaterContrast& wc, const BlobProposal& b) {
+/// OpenCV's 8-bit HSV saturation (cvtColor COLOR_BGR2HSV): round(255 (max - min) / max), from the same table.
+int saturationOf(const cv::Vec3b& p) {
+  static const std::array<int, 256> divide = [] {
+    std::array<int, 256> t{};
+    for (int v = 1; v < 256; ++v) t[v] = cv::saturate_cast<int>((255 << 12) / (1. * v));
+    return t;
+  }();
+  const int v = std::max({p[0], p[1], p[2]}), diff = v - std::min({p[0], p[1], p[2]});
+  return (diff * divide[v] + (1 << 11)) >> 12;
+}
+
+/// Sums over a proposal's pixels and over the ring of water around it, in one pass over the images.
+struct BlobSums {
+  double n = 0, ring_n = 0;
+  cv::Vec3d contrast, contrast_sq, ring_contrast, raw, water;
+  double saliency = 0, saturation = 0;
+};
+
+BlobSums sumsOver(const cv::Mat& bgr, const WaterContrast& wc, const cv::Mat& saliency, const cv::Rect& outer,
+                  const cv::Mat& inside, const cv::Mat& ring) {
+  BlobSums s;
+  for (int y = 0; y < outer.height; ++y) {
+    const auto* in = inside.ptr<std::uint8_t>(y);
+    const auto* around = ring.ptr<std::uint8_t>(y);
+    const auto* c = wc.contrast.ptr<cv::Vec3f>(outer.y + y) + outer.x;
+    const auto* p = bgr.ptr<cv::Vec3b>(outer.y + y) + outer.x;
+    const auto* w = wc.water.ptr<cv::Vec3b>(outer.y + y) + outer.x;
+    const auto* sal = saliency.ptr<float>(outer.y + y) + outer.x;
+    for (int x = 0; x < outer.width; ++x) {
+      if (in[x]) {
+        s.n += 1;
+        for (int k = 0; k < 3; ++k) {
+          s.contrast[k] += c[x][k];
+          s.contrast_sq[k] += double(c[x][k]) * c[x][k];
+          s.raw[k] += p[x][k];
+          s.water[k] += w[x][k];
+        }
+        s.saliency += sal[x];
+        s.saturation += saturationOf(p[x]);
+      } else if (around[x]) {
+        s.ring_n += 1;
+        for (int k = 0; k < 3; ++k) s.ring_contrast[k] += c[x][k];
+      }
+    }
+  }
+  return s;
+}
+
+std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const BlobProposal& b) {
   const cv::Rect frame(0, 0, bgr.cols, bgr.rows);
   const cv::Rect outer = (b.roi + cv::Size(2 * kRingPx, 2 * kRingPx) - cv::Point(kRingPx, kRingPx)) & frame;
   cv::Mat inside = cv::Mat::zeros(outer.size(), CV_8UC1);
   b.mask.copyTo(inside(b.roi - outer.tl()));
   cv::Mat ring;
   cv::dilate(inside, ring, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRingPx + 1, 2 * kRingPx + 1)));
-  ring &= ~inside;
-  cv::Scalar f_mean, f_std, c_mean, c_std, r_mean, r_std, s_mean, s_std;
-  cv::meanStdDev(wc.contrast(outer), f_mean, f_std, inside);
-  cv::meanStdDev(wc.chroma(outer), c_mean, c_std, inside);
-  if (cv::countNonZero(ring) > 0) {
-    cv::meanStdDev(wc.contrast(outer), r_mean, r_std, ring);
-  } else {
-    r_mean = f_mean;
+  const BlobSums s = sumsOver(bgr, wc, wc.saliency[static_cast<int>(b.kind)], outer, inside, ring);
+  const double n = std::max(s.n, 1.0);
+  cv::Vec3d f_mean, f_std, r_mean;
+  for (int k = 0; k < 3; ++k) {
+    f_mean[k] = s.contrast[k] / n;
+    f_std[k] = std::sqrt(std::max(s.contrast_sq[k] / n - f_mean[k] * f_mean[k], 0.0));
+    r_mean[k] = s.ring_n > 0 ? s.ring_contrast[k] / s.ring_n : f_mean[k];
   }
-  cv::meanStdDev(wc.saliency[static_cast<int>(b.kind)](outer), s_mean, s_std, inside);
-  const cv::Scalar raw = cv::mean(bgr(outer), inside);
-  const cv::Scalar water = cv::mean(wc.water(outer), inside);
+  const cv::Vec3f c_mean = chromaOf(cv::Vec3f(f_mean));
+  const cv::Vec3d raw = s.raw / n, water = s.water / n;
   const double water_sum = water[0] + water[1] + water[2] + 1e-3;
-  const cv::Scalar hsv_mean = cv::mean(hsv(outer), inside);
   const double raw_sum = raw[0] + raw[1] + raw[2] + 1e-3;
   std::vector<cv::Point> hull;
   cv::convexHull(b.contour, hull);
@@ -49,7 +96,7 @@ std::vector<float> describe(const cv::Mat& bgr, const cv::Mat& hsv, const WaterC
   const double hue = std::atan2(std::sqrt(3.0) * (raw[1] - raw[0]), 2 * raw[2] - raw[1] - raw[0]);
   const double image_area = static_cast<double>(bgr.total());
   return {static_cast<float>(f_mean[0]), static_cast<float>(f_mean[1]), static_cast<float>(f_mean[2]),
-          static_cast<float>(c_mean[0]), static_cast<float>(c_mean[1]), static_cast<float>(c_mean[2]),
+          c_mean[0], c_mean[1], c_mean[2],
           static_cast<float>(f_mean[0] - r_mean[0]), static_cast<float>(f_mean[1] - r_mean[1]),
           static_cast<float>(f_mean[2] - r_mean[2]),
           static_cast<float>(f_std[0]), static_cast<float>(f_std[1]), static_cast<float>(f_std[2]),
@@ -60,8 +107,8 @@ std::vector<float> describe(const cv::Mat& bgr, const cv::Mat& hsv, const WaterC
           static_cast<float>(b.area_px / hull_area),
           static_cast<float>(4 * M_PI * b.area_px / (perimeter * perimeter)),
           static_cast<float>(std::log(b.level)), static_cast<float>(b.kind == SaliencyKind::kFull ? 1 : 0),
-          static_cast<float>(std::log(s_mean[0] + 1)),
-          static_cast<float>(hsv_mean[1] / 255.0), static_cast<float>(raw_sum / (3 * 255.0)),
+          static_cast<float>(std::log(s.saliency / n + 1)),
+          static_cast<float>(s.saturation / n / 255.0), static_cast<float>(raw_sum / (3 * 255.0)),
           static_cast<float>(std::cos(hue)), static_cast<float>(std::sin(hue)),
           static_cast<float>(water[0] / water_sum), static_cast<float>(water[1] / water_sum),
           static_cast<float>(std::log(water_sum / 3 + 1))};
@@ -101,8 +148,6 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
   if (contrast.contrast.size() != bgr.size()) throw std::invalid_argument("proposeBlobs: contrast and image sizes differ");
   const auto problems = config.validate();
   if (!problems.empty()) throw std::invalid_argument("proposeBlobs: " + problems.front());
-  cv::Mat hsv;
-  cv::cvtColor(bgr, hsv, cv::COLOR_BGR2HSV);
   std::vector<BlobProposal> out;
   for (const SaliencyKind kind : {SaliencyKind::kChroma, SaliencyKind::kFull}) {
     for (const double level : config.levels) {
@@ -131,7 +176,7 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
     });
     out.resize(config.max_proposals);
   }
-  for (BlobProposal& b : out) b.features = describe(bgr, hsv, contrast, b);
+  for (BlobProposal& b : out) b.features = describe(bgr, contrast, b);
   return out;
 }
 

@@ -249,52 +249,80 @@ double LearningScore::recall() const {
   return l > 0 ? double(f) / l : 0.0;
 }
 
-LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+namespace {
+
+/// Adds one frame's detections (those of at least `min_confidence`) to `s`.
+void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, double min_confidence,
+                const LearningOptions& options, LearningScore& s) {
   const std::size_t n = options.colours.size();
-  LearningScore s;
-  s.labelled.assign(n, 0);
-  s.found.assign(n, 0);
-  s.confusion.assign(n, std::vector<int>(n + 1, 0));
-  for (const LabelledFrame& f : frames) {
-    ++s.frames;
-    const DetectionResult r = detector.detect2d(RawFrame(f.image));
-    std::vector<bool> used(r.objects.size(), false);
-    auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
-      const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
-      return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
-    };
-    for (const LabelBox& l : f.labels) {
-      const int colour = colourOfLabel(l.name, options);
-      if (colour < 0) continue;
-      int hit = -1, other = -1;
-      for (std::size_t i = 0; i < r.objects.size(); ++i) {
-        if (used[i] || !centreIn(r.objects[i].roi, l.box)) continue;
-        if (r.objects[i].colour == options.colours[colour]) {
-          hit = static_cast<int>(i);
-          break;
-        }
-        if (other < 0) other = static_cast<int>(i);
+  ++s.frames;
+  std::vector<bool> used(objects.size(), false), counted_object(objects.size(), false);
+  for (std::size_t i = 0; i < objects.size(); ++i) counted_object[i] = objects[i].confidence >= min_confidence;
+  auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
+    const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
+    return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
+  };
+  for (const LabelBox& l : f.labels) {
+    const int colour = colourOfLabel(l.name, options);
+    if (colour < 0) continue;
+    int hit = -1, other = -1;
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+      if (!counted_object[i] || used[i] || !centreIn(objects[i].roi, l.box)) continue;
+      if (objects[i].colour == options.colours[colour]) {
+        hit = static_cast<int>(i);
+        break;
       }
-      const bool counted = l.box.height >= options.min_label_px;
-      if (hit >= 0) used[hit] = true;
-      if (!counted) {
-        if (other >= 0) used[other] = true;  // a far object found: neither target nor false
-        continue;
-      }
-      ++s.labelled[colour];
-      if (hit >= 0) {
-        ++s.found[colour];
-        ++s.confusion[colour][colour];
-      } else if (other >= 0) {
-        const auto it = std::find(options.colours.begin(), options.colours.end(), r.objects[other].colour);
-        if (it != options.colours.end()) ++s.confusion[colour][it - options.colours.begin()];
-      } else {
-        ++s.confusion[colour][n];
-      }
+      if (other < 0) other = static_cast<int>(i);
     }
-    for (std::size_t i = 0; i < r.objects.size(); ++i) s.false_detections += used[i] ? 0 : 1;
+    const bool counted = l.box.height >= options.min_label_px;
+    if (hit >= 0) used[hit] = true;
+    if (!counted) {
+      if (other >= 0) used[other] = true;  // a far object found: neither target nor false
+      continue;
+    }
+    ++s.labelled[colour];
+    if (hit >= 0) {
+      ++s.found[colour];
+      ++s.confusion[colour][colour];
+    } else if (other >= 0) {
+      const auto it = std::find(options.colours.begin(), options.colours.end(), objects[other].colour);
+      if (it != options.colours.end()) ++s.confusion[colour][it - options.colours.begin()];
+    } else {
+      ++s.confusion[colour][n];
+    }
   }
+  for (std::size_t i = 0; i < objects.size(); ++i) s.false_detections += counted_object[i] && !used[i] ? 1 : 0;
+}
+
+LearningScore emptyScore(std::size_t colours) {
+  LearningScore s;
+  s.labelled.assign(colours, 0);
+  s.found.assign(colours, 0);
+  s.confusion.assign(colours, std::vector<int>(colours + 1, 0));
   return s;
+}
+
+}  // namespace
+
+std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<LabelledFrame>& frames,
+                                   const LearningOptions& options, const std::vector<double>& min_confidences) {
+  if (min_confidences.empty() || !std::is_sorted(min_confidences.begin(), min_confidences.end())) {
+    throw std::invalid_argument("scoreAt: give thresholds in ascending order");
+  }
+  if (detector.config().candidates.source == ContourSource::kLearned &&
+      min_confidences.front() > 0 && min_confidences.front() < detector.config().learned.min_confidence) {
+    throw std::invalid_argument("scoreAt: threshold under the detector's colour_model.min_confidence");
+  }
+  std::vector<LearningScore> out(min_confidences.size(), emptyScore(options.colours.size()));
+  for (const LabelledFrame& f : frames) {
+    const DetectionResult r = detector.detect2d(RawFrame(f.image));
+    for (std::size_t t = 0; t < min_confidences.size(); ++t) scoreFrame(f, r.objects, min_confidences[t], options, out[t]);
+  }
+  return out;
+}
+
+LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+  return scoreAt(detector, frames, options, {0.0}).front();
 }
 
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,

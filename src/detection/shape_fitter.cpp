@@ -17,6 +17,10 @@ namespace {
 constexpr double kBoxFaceTolerance = 0.005;
 constexpr int kRansacIterations = 100;
 constexpr unsigned kRansacSeed = 1;
+/// A plane is measured only where the line of sight meets it at more than ~14.5 degrees (|cos| of the angle
+/// between ray and normal >= this): closer to edge-on, a pixel of outline moves its point on the plane by
+/// metres (a near panel's outline reached 97 m), and a strip of points leaves the normal undetermined.
+constexpr double kMinIncidence = 0.25;
 
 struct Pca {
   Eigen::Vector3d mean;
@@ -40,12 +44,13 @@ Pca pca(const std::vector<Eigen::Vector3d>& pts) {
   return out;
 }
 
-/// Intersections of rays from the optical centre with the plane n.x = d (rays nearly parallel skipped).
+/// Intersections of rays from the optical centre with the plane n.x = d (rays meeting it nearly edge-on,
+/// under kMinIncidence, skipped).
 std::vector<Eigen::Vector3d> onPlane(const std::vector<Eigen::Vector3d>& rays, const Eigen::Vector3d& n, double d) {
   std::vector<Eigen::Vector3d> out;
   for (const auto& r : rays) {
     const double denom = n.dot(r);
-    if (std::abs(denom) > 1e-3 && d / denom > 0) out.push_back(r * (d / denom));
+    if (std::abs(denom) >= kMinIncidence * r.norm() && d / denom > 0) out.push_back(r * (d / denom));
   }
   return out;
 }
@@ -120,9 +125,7 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
   ShapeFit& fit = scored.fit;
   Eigen::Vector3d n = p.axes.col(2);
   if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
-  // A plane seen nearly edge-on is not a plane we can measure (and a strip of points along a tube
-  // leaves its normal undetermined).
-  if (-n.dot(p.mean.normalized()) < 0.25) return scored;
+  if (-n.dot(p.mean.normalized()) < kMinIncidence) return scored;  // seen nearly edge-on
   fit.shape = "plane";
   std::vector<double> residuals;
   for (const auto& q : pts) residuals.push_back(n.dot(q - p.mean));

@@ -29,15 +29,8 @@ cv::Vec3f channelMedian(std::array<std::vector<float>, 3>& values) {
   return m;
 }
 
-/// Median and MAD per channel of a CV_32FC3 image, on a sparse grid.
-void spreadOf(const cv::Mat& x, cv::Vec3f& median, cv::Vec3f& spread) {
-  std::array<std::vector<float>, 3> values;
-  for (int y = 0; y < x.rows; y += kStatsStep) {
-    const auto* p = x.ptr<cv::Vec3f>(y);
-    for (int i = 0; i < x.cols; i += kStatsStep) {
-      for (int c = 0; c < 3; ++c) values[c].push_back(p[i][c]);
-    }
-  }
+/// Median and MAD per channel of `values` (modified).
+void spreadOf(std::array<std::vector<float>, 3>& values, cv::Vec3f& median, cv::Vec3f& spread) {
   median = channelMedian(values);
   for (int c = 0; c < 3; ++c) {
     for (float& v : values[c]) v = std::abs(v - median[c]);
@@ -46,22 +39,43 @@ void spreadOf(const cv::Mat& x, cv::Vec3f& median, cv::Vec3f& spread) {
   for (int c = 0; c < 3; ++c) spread[c] = std::max(spread[c], 1e-3f);
 }
 
-/// |(x - median) / spread| per pixel.
-cv::Mat normalisedDistance(const cv::Mat& x, const cv::Vec3f& median, const cv::Vec3f& spread) {
-  cv::Mat out(x.size(), CV_32FC1);
-  const float k0 = 1.f / spread[0], k1 = 1.f / spread[1], k2 = 1.f / spread[2];
-  for (int y = 0; y < x.rows; ++y) {
-    const auto* p = x.ptr<cv::Vec3f>(y);
-    auto* o = out.ptr<float>(y);
-    for (int i = 0; i < x.cols; ++i) {
-      const float a = (p[i][0] - median[0]) * k0, b = (p[i][1] - median[1]) * k1, c = (p[i][2] - median[2]) * k2;
-      o[i] = std::sqrt(a * a + b * b + c * c);
+/// log((I + o) / (B + o)) per channel, from a table of log(v + o).
+struct ContrastOf {
+  std::array<float, 256> log_table;
+  explicit ContrastOf(double offset) {
+    for (int v = 0; v < 256; ++v) log_table[v] = std::log(static_cast<float>(v + offset));
+  }
+  cv::Vec3f operator()(const cv::Vec3b& i, const cv::Vec3b& w) const {
+    return cv::Vec3f(log_table[i[0]] - log_table[w[0]], log_table[i[1]] - log_table[w[1]], log_table[i[2]] - log_table[w[2]]);
+  }
+};
+
+/// The frame's spread of chroma and contrast, on every kStatsStep-th pixel of every kStatsStep-th row.
+ContrastStats statsOf(const cv::Mat& bgr, const cv::Mat& water, const ContrastOf& contrast) {
+  std::array<std::vector<float>, 3> chroma, full;
+  for (int y = 0; y < bgr.rows; y += kStatsStep) {
+    const auto* i = bgr.ptr<cv::Vec3b>(y);
+    const auto* w = water.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < bgr.cols; x += kStatsStep) {
+      const cv::Vec3f c = contrast(i[x], w[x]), h = chromaOf(c);
+      for (int k = 0; k < 3; ++k) {
+        full[k].push_back(c[k]);
+        chroma[k].push_back(h[k]);
+      }
     }
   }
-  return out;
+  ContrastStats stats;
+  spreadOf(chroma, stats.median[0], stats.spread[0]);
+  spreadOf(full, stats.median[1], stats.spread[1]);
+  return stats;
 }
 
 }  // namespace
+
+cv::Vec3f chromaOf(const cv::Vec3f& contrast) {
+  const float mean = (contrast[0] + contrast[1] + contrast[2]) * (1.f / 3.f);
+  return cv::Vec3f(contrast[0] - mean, contrast[1] - mean, contrast[2] - mean);
+}
 
 std::vector<std::string> WaterContrastConfig::validate() const {
   std::vector<std::string> p;
@@ -72,36 +86,34 @@ std::vector<std::string> WaterContrastConfig::validate() const {
 
 namespace {
 
-/// Contrast, chroma and saliency of `out` from its image and water (stats given, or measured when null), in
-/// one pass per pixel (OpenCV's per-operation passes over float images cost ~5x more here).
+/// Contrast and saliency of `out` from its image and water (stats given, or measured when null), in one pass
+/// per pixel (OpenCV's per-operation passes over float images cost ~5x more here; the chroma is not stored,
+/// being the contrast minus its channel mean).
 void measureAgainstWater(const cv::Mat& bgr, const WaterContrastConfig& config, const ContrastStats* stats,
                          WaterContrast& out) {
-  // log((I + o) / (B + o)) from one table of log(v + o); chroma: minus the mean over the channels.
-  std::array<float, 256> log_table;
-  for (int v = 0; v < 256; ++v) log_table[v] = std::log(static_cast<float>(v + config.ratio_offset));
+  const ContrastOf contrast(config.ratio_offset);
+  out.stats = stats ? *stats : statsOf(bgr, out.water, contrast);
+  const cv::Vec3f m0 = out.stats.median[0], m1 = out.stats.median[1];
+  const cv::Vec3f k0(1.f / out.stats.spread[0][0], 1.f / out.stats.spread[0][1], 1.f / out.stats.spread[0][2]);
+  const cv::Vec3f k1(1.f / out.stats.spread[1][0], 1.f / out.stats.spread[1][1], 1.f / out.stats.spread[1][2]);
   out.contrast.create(bgr.size(), CV_32FC3);
-  out.chroma.create(bgr.size(), CV_32FC3);
+  out.saliency[0].create(bgr.size(), CV_32FC1);
+  out.saliency[1].create(bgr.size(), CV_32FC1);
   for (int y = 0; y < bgr.rows; ++y) {
     const auto* i = bgr.ptr<cv::Vec3b>(y);
     const auto* w = out.water.ptr<cv::Vec3b>(y);
     auto* c = out.contrast.ptr<cv::Vec3f>(y);
-    auto* h = out.chroma.ptr<cv::Vec3f>(y);
+    auto* s0 = out.saliency[0].ptr<float>(y);
+    auto* s1 = out.saliency[1].ptr<float>(y);
     for (int x = 0; x < bgr.cols; ++x) {
-      const float c0 = log_table[i[x][0]] - log_table[w[x][0]], c1 = log_table[i[x][1]] - log_table[w[x][1]],
-                  c2 = log_table[i[x][2]] - log_table[w[x][2]];
-      const float mean = (c0 + c1 + c2) * (1.f / 3.f);
-      c[x] = cv::Vec3f(c0, c1, c2);
-      h[x] = cv::Vec3f(c0 - mean, c1 - mean, c2 - mean);
+      c[x] = contrast(i[x], w[x]);
+      const cv::Vec3f h = chromaOf(c[x]);
+      const float a0 = (h[0] - m0[0]) * k0[0], b0 = (h[1] - m0[1]) * k0[1], c0 = (h[2] - m0[2]) * k0[2];
+      const float a1 = (c[x][0] - m1[0]) * k1[0], b1 = (c[x][1] - m1[1]) * k1[1], c1 = (c[x][2] - m1[2]) * k1[2];
+      s0[x] = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
+      s1[x] = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
     }
   }
-  if (stats) {
-    out.stats = *stats;
-  } else {
-    spreadOf(out.chroma, out.stats.median[0], out.stats.spread[0]);
-    spreadOf(out.contrast, out.stats.median[1], out.stats.spread[1]);
-  }
-  out.saliency[0] = normalisedDistance(out.chroma, out.stats.median[0], out.stats.spread[0]);
-  out.saliency[1] = normalisedDistance(out.contrast, out.stats.median[1], out.stats.spread[1]);
 }
 
 void requireValid(const WaterContrastConfig& config, const char* who) {

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Publishes synchronised stereo pairs (left/right image_raw + camera_info) from a StereoSource chosen by
 // the `source` parameter: `sim` (the simulated scene; also its ground truth on `ground_truth`) or `aravis`
-// (two GigE Vision cameras; calibration from camera_info_manager, diagnostics per camera).
+// (two GigE Vision cameras; calibration from camera_info_manager, diagnostics per camera, exposure/gain/rate
+// while streaming through dynamic_reconfigure, and per side and frame a FrameMetadata on <side>/frame_metadata).
 #include <camera_info_manager/camera_info_manager.h>
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
@@ -13,9 +15,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
+#include "underwater_stereo/FrameMetadata.h"
+#include "underwater_stereo/StereoCameraConfig.h"
 #include "underwater_stereo/camera/aravis_stereo_source.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
@@ -24,6 +30,72 @@
 #include "underwater_stereo/sim/sim_stereo_source.h"
 
 namespace underwater_stereo {
+
+namespace {
+
+/// The controls <-> dynamic_reconfigure (auto_roi and the law's deadband and step stay as configured).
+void toReconfigure(const StereoControls& c, StereoCameraConfig& r) {
+  r.exposure_sync = exposureSyncName(c.exposure_sync);
+  r.exposure_us = c.exposure_us;
+  r.gain = c.gain;
+  r.exposure_auto_min_us = c.auto_exposure.exposure_min_us;
+  r.exposure_auto_max_us = c.auto_exposure.exposure_max_us;
+  r.gain_auto_min_db = c.auto_exposure.gain_min_db;
+  r.gain_auto_max_db = c.auto_exposure.gain_max_db;
+  r.auto_target = c.auto_exposure.target;
+  r.rate_hz = c.rate_hz;
+  r.packet_delay_ns = c.packet_delay_ns;
+}
+
+StereoControls fromReconfigure(StereoControls c, const StereoCameraConfig& r, std::vector<std::string>& problems) {
+  try {
+    c.exposure_sync = exposureSyncFromName(r.exposure_sync);
+  } catch (const std::invalid_argument& e) {
+    problems.push_back(e.what());
+  }
+  c.exposure_us = r.exposure_us;
+  c.gain = r.gain;
+  c.auto_exposure.exposure_min_us = r.exposure_auto_min_us;
+  c.auto_exposure.exposure_max_us = r.exposure_auto_max_us;
+  c.auto_exposure.gain_min_db = r.gain_auto_min_db;
+  c.auto_exposure.gain_max_db = r.gain_auto_max_db;
+  c.auto_exposure.target = r.auto_target;
+  c.rate_hz = r.rate_hz;
+  c.packet_delay_ns = r.packet_delay_ns;
+  return c;
+}
+
+FrameMetadataPtr toMetadata(const FrameCapture& c, const std_msgs::Header& header) {
+  auto m = boost::make_shared<FrameMetadata>();
+  m->header = header;
+  m->camera = c.camera;
+  m->camera_frame_id = c.frame_id;
+  m->camera_timestamp_ns = c.device_ns;
+  m->ptp = c.ptp;
+  m->exposure_us = c.exposure_us;
+  m->gain = c.gain;
+  m->gain_unit = c.gain_unit;
+  m->temperature_c = c.temperature_c;
+  return m;
+}
+
+/// The image message; with `pixels` (real cameras) their storage becomes its data, so a frame is copied once
+/// in all (out of the camera's buffer), and in one manager the detector receives it without serialisation.
+sensor_msgs::ImagePtr toImage(const std_msgs::Header& header, const std::string& encoding, const cv::Mat& image,
+                              const std::shared_ptr<std::vector<std::uint8_t>>& pixels) {
+  if (!pixels) return cv_bridge::CvImage(header, encoding, image).toImageMsg();
+  auto m = boost::make_shared<sensor_msgs::Image>();
+  m->header = header;
+  m->encoding = encoding;
+  m->height = static_cast<std::uint32_t>(image.rows);
+  m->width = static_cast<std::uint32_t>(image.cols);
+  m->step = static_cast<std::uint32_t>(image.cols * image.elemSize());
+  m->is_bigendian = 0;
+  m->data = std::move(*pixels);
+  return m;
+}
+
+}  // namespace
 
 class StereoCameraNodelet : public nodelet::Nodelet {
  public:
@@ -57,6 +129,16 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     left_pub_ = it.advertiseCamera("left/image_raw", 2);
     right_pub_ = it.advertiseCamera("right/image_raw", 2);
     if (source == "sim") ground_truth_pub_ = getNodeHandle().advertise<GroundTruth>("ground_truth", 10);
+    if (aravis_) {
+      left_metadata_pub_ = getNodeHandle().advertise<FrameMetadata>("left/frame_metadata", 10);
+      right_metadata_pub_ = getNodeHandle().advertise<FrameMetadata>("right/frame_metadata", 10);
+      reconfigure_ = std::make_unique<dynamic_reconfigure::Server<StereoCameraConfig>>(reconfigure_mutex_,
+                                                                                       getPrivateNodeHandle());
+      StereoCameraConfig start;
+      toReconfigure(aravis_->controls(), start);
+      reconfigure_->updateConfig(start);
+      reconfigure_->setCallback([this](StereoCameraConfig& r, std::uint32_t) { onReconfigure(r); });
+    }
     source_->start([this](const StereoFrame& frame) { publish(frame); });
   }
 
@@ -116,9 +198,31 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     AravisStereoConfig config;
     config.left = readCamera(params, "left");
     config.right = readCamera(params, "right");
-    std::string sync = "software";
+    std::string sync = "software", exposure_sync = "master_slave";
     params.optional("sync", sync);
-    params.optional("rate_hz", config.rate_hz);
+    StereoControls& c = config.controls;
+    AutoExposureSettings& a = c.auto_exposure;
+    params.optional("exposure_sync", exposure_sync);
+    params.optional("exposure_us", c.exposure_us);
+    params.optional("gain", c.gain);
+    params.optional("exposure_auto_min_us", a.exposure_min_us);
+    params.optional("exposure_auto_max_us", a.exposure_max_us);
+    params.optional("gain_auto_min_db", a.gain_min_db);
+    params.optional("gain_auto_max_db", a.gain_max_db);
+    params.optional("auto_target", a.target);
+    params.optional("auto_deadband", a.deadband);
+    params.optional("auto_max_step", a.max_step);
+    std::vector<double> roi;
+    params.optional("auto_roi", roi);
+    if (roi.size() == 4) {
+      a.roi = AutoRoi{roi[0], roi[1], roi[2], roi[3]};
+    } else if (getPrivateNodeHandle().hasParam("auto_roi")) {
+      problems.push_back(getPrivateNodeHandle().resolveName("auto_roi") + ": need [x, y, width, height] (shares of the image)");
+    }
+    params.optional("rate_hz", c.rate_hz);
+    params.optional("packet_delay_ns", c.packet_delay_ns);
+    params.optional("ptp", config.ptp);
+    params.optional("ptp_timeout_s", config.ptp_timeout_s);
     params.optional("max_skew_s", config.max_skew_s);
     params.optional("frame_timeout_s", config.frame_timeout_s);
     params.optional("max_backoff_s", config.max_backoff_s);
@@ -126,6 +230,11 @@ class StereoCameraNodelet : public nodelet::Nodelet {
       config.sync = triggerModeFromName(sync);
     } catch (const std::invalid_argument& e) {
       problems.push_back(getPrivateNodeHandle().resolveName("sync") + ": " + e.what());
+    }
+    try {
+      c.exposure_sync = exposureSyncFromName(exposure_sync);
+    } catch (const std::invalid_argument& e) {
+      problems.push_back(getPrivateNodeHandle().resolveName("exposure_sync") + ": " + e.what());
     }
     const auto config_problems = config.validate();
     problems.insert(problems.end(), config_problems.begin(), config_problems.end());
@@ -180,8 +289,28 @@ class StereoCameraNodelet : public nodelet::Nodelet {
       diagnostics_->force_update();
     });
     NODELET_INFO_STREAM("StereoCameraNodelet: source=aravis left=" << config.left.id << " right=" << config.right.id
-                        << " sync=" << sync << " rate_hz=" << config.rate_hz << " max skew "
-                        << config.effectiveMaxSkewS() * 1e3 << " ms frame_id=" << frame_id_);
+                        << " sync=" << sync << " rate_hz=" << c.rate_hz << " max skew "
+                        << config.effectiveMaxSkewS() * 1e3 << " ms exposure_sync=" << exposure_sync
+                        << " auto_roi=[" << a.roi.x << ", " << a.roi.y << ", " << a.roi.width << ", " << a.roi.height
+                        << "] auto_target=" << a.target << " ptp=" << (config.ptp ? "true" : "false")
+                        << " frame_id=" << frame_id_);
+  }
+
+  /// A new set from dynamic_reconfigure: applied whole, or refused whole with the reasons; either way `r` is
+  /// set to the values in use, so the client shows them.
+  void onReconfigure(StereoCameraConfig& r) {
+    std::vector<std::string> problems;
+    const StereoControls wanted = fromReconfigure(aravis_->controls(), r, problems);
+    if (problems.empty()) problems = aravis_->reconfigure(wanted);
+    if (!problems.empty()) {
+      NODELET_WARN_STREAM(joinProblems("StereoCameraNodelet: reconfigure refused, the values in use are kept", problems));
+    } else {
+      NODELET_INFO_STREAM("StereoCameraNodelet: reconfigured: exposure_sync=" << r.exposure_sync << " exposure_us="
+                          << r.exposure_us << " gain=" << r.gain << " auto [" << r.exposure_auto_min_us << ", "
+                          << r.exposure_auto_max_us << "] us target " << r.auto_target << " rate_hz=" << r.rate_hz
+                          << " packet_delay_ns=" << r.packet_delay_ns);
+    }
+    toReconfigure(aravis_->controls(), r);
   }
 
   /// A feature the configuration asks for and the camera lacks is a WARN in the log, once per list.
@@ -201,8 +330,8 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     if (c.state == "streaming" && fps > 0 && !c.unsupported.empty()) {
       std::string features;
       for (const auto& u : c.unsupported) features += (features.empty() ? "" : ", ") + u.substr(0, u.find(':'));
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "streaming, but the camera lacks " + features +
-                                                                " (current values used)");
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "streaming, but the camera lacks " + features + " (see 'unsupported ...')");
     } else if (c.state == "streaming") {
       stat.summary(fps > 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN,
                    fps > 0 ? "streaming" : "streaming, no frames in the last second");
@@ -211,6 +340,9 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     }
     stat.add("camera", c.description);
     stat.add("state", c.state);
+    stat.add("exposure [us]", c.exposure.exposure_us);
+    stat.add("gain [" + c.gain_unit + "]", c.exposure.gain_db);
+    stat.add("PTP", c.ptp);
     stat.add("frame rate [Hz]", fps);
     stat.add("frames", c.frames);
     stat.add("missed frames (frame-id gaps)", c.missed_frames);
@@ -232,6 +364,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     stat.add("pairs dropped (capture time not after the previous)", last_status_.out_of_order);
     stat.add("pairs dropped (publisher busy)", last_status_.overflowed);
     stat.add("left/right skew of the last pair [ms]", last_status_.last_skew_ms);
+    stat.add("stamps", last_status_.ptp_stamps ? "PTP (both cameras settled)" : "clock mapping per camera");
   }
 
   // Both sides carry one header: the same stamp and the left optical frame, as stereo consumers
@@ -261,8 +394,10 @@ class StereoCameraNodelet : public nodelet::Nodelet {
       ground_truth_pub_.publish(ros_glue::toGroundTruthMsg(
           frame.ground_truth, header, frame.camera_pose_world.value_or(Eigen::Isometry3d::Identity()), fixed_frame_));
     }
-    left_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.left).toImageMsg(), left_info);
-    right_pub_.publish(cv_bridge::CvImage(header, frame.encoding, frame.right).toImageMsg(), right_info);
+    if (frame.left_capture) left_metadata_pub_.publish(toMetadata(*frame.left_capture, header));
+    if (frame.right_capture) right_metadata_pub_.publish(toMetadata(*frame.right_capture, header));
+    left_pub_.publish(toImage(header, frame.encoding, frame.left, frame.left_pixels), left_info);
+    right_pub_.publish(toImage(header, frame.encoding, frame.right, frame.right_pixels), right_info);
   }
 
   std::string frame_id_ = "stereo_left_optical_frame";
@@ -277,6 +412,9 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   AravisStereoSource* aravis_ = nullptr;
   std::unique_ptr<camera_info_manager::CameraInfoManager> left_info_, right_info_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  ros::Publisher left_metadata_pub_, right_metadata_pub_;
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<StereoCameraConfig>> reconfigure_;
   ros::WallTimer diagnostics_timer_;
   StereoStatus last_status_;
   std::vector<std::string> warned_unsupported_[2];

@@ -348,6 +348,10 @@ int main(int argc, char** argv) {
         }
         return n;
       };
+      if (a == "--help" || a == "-h") {
+        std::cout << kUsage;
+        return 0;
+      }
       if (a == "--verbose") verbose = true;
       else if (a == "--paper-brightness") paper_brightness = true;
       else if (a == "--config") config_path = value();

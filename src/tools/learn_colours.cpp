@@ -40,6 +40,8 @@ const char* kUsage =
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
+    "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
+    "                      (one table; from the same folds, to choose min_confidence)\n"
     "Exit status: 0 written, 1 bad labels or images, 2 bad options or configuration.\n";
 
 struct Options {
@@ -48,6 +50,7 @@ struct Options {
   LearningOptions learning;
   int folds = 5;
   double min_confidence = -1;
+  std::vector<double> sweep;
   bool colours_given = false;
 };
 
@@ -60,6 +63,21 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+/// `text` as a number in [lo, hi]; otherwise an error that starts with `what`.
+double numberIn(const std::string& text, double lo, double hi, const std::string& what) {
+  std::size_t used = 0;
+  double x = 0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !(x >= lo && x <= hi)) {
+    throw std::invalid_argument(what + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return x;
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -70,20 +88,7 @@ Options parse(int argc, char** argv) {
     }
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string v = argv[++i];
-    auto number = [&](double lo, double hi) {
-      std::size_t used = 0;
-      double x = 0;
-      try {
-        x = std::stod(v, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != v.size() || !(x >= lo && x <= hi)) {
-        throw std::invalid_argument(arg + " " + v + ": expected a number in [" + std::to_string(lo) + ", " +
-                                    std::to_string(hi) + "]");
-      }
-      return x;
-    };
+    auto number = [&](double lo, double hi) { return numberIn(v, lo, hi, arg + " " + v); };
     if (arg == "--images") o.images.push_back(v);
     else if (arg == "--annotations") o.annotations.push_back(v);
     else if (arg == "--out") o.out = v;
@@ -98,12 +103,17 @@ Options parse(int argc, char** argv) {
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
     else if (arg == "--balance") o.learning.training.balance = number(0, 1);
     else if (arg == "--min-confidence") o.min_confidence = number(0.01, 1);
+    else if (arg == "--sweep") {
+      for (const std::string& item : split(v)) o.sweep.push_back(numberIn(item, 0.01, 1, "--sweep " + v + ": '" + item + "'"));
+      if (o.sweep.empty()) throw std::invalid_argument("--sweep needs at least one value");
+    }
     else throw std::invalid_argument("unknown option " + arg);
   }
   if (o.images.empty() || o.images.size() != o.annotations.size()) {
     throw std::invalid_argument("give --images DIR --annotations DIR (in pairs)");
   }
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
+  if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   return o;
 }
 
@@ -186,6 +196,30 @@ void printScore(const LearningScore& s, const LearningOptions& options, const st
   }
 }
 
+std::string formatted(double x) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.2f", x);
+  return text;
+}
+
+/// One line per threshold: recall per colour and overall, false detections per frame.
+void printSweep(const std::vector<double>& thresholds, const std::vector<LearningScore>& totals,
+                const LearningOptions& options) {
+  std::printf("\ncross-validated by min_confidence (recall %%)\n\n| min_confidence |");
+  for (const auto& c : options.colours) std::printf(" %s |", c.c_str());
+  std::printf(" all | false per frame |\n|---|");
+  for (std::size_t k = 0; k < options.colours.size() + 2; ++k) std::printf("---|");
+  std::printf("\n");
+  for (std::size_t t = 0; t < thresholds.size(); ++t) {
+    const LearningScore& s = totals[t];
+    std::printf("| %.2f |", thresholds[t]);
+    for (std::size_t k = 0; k < options.colours.size(); ++k) {
+      std::printf(" %.1f |", s.labelled[k] ? 100.0 * s.found[k] / s.labelled[k] : 0.0);
+    }
+    std::printf(" %.1f | %.2f |\n", 100.0 * s.recall(), s.frames ? double(s.false_detections) / s.frames : 0.0);
+  }
+}
+
 /// The base configuration file with the learnt colours and model, as YAML.
 void writeConfig(const std::string& base_path, const std::string& out, const std::string& model_name,
                  const LearningOptions& options, double min_confidence) {
@@ -248,17 +282,22 @@ int main(int argc, char** argv) {
     std::printf("%zu frames; the detector's proposals cover %d of %d labelled objects (the most it can find)\n",
                 frames.size(), proposed, objects);
     const double min_confidence = o.min_confidence > 0 ? o.min_confidence : base.learned.min_confidence;
-    auto configWith = [&](const ColourModel& m) {
+    auto configWith = [&](const ColourModel& m, double confidence) {
       DetectorConfig c = learnedConfig(base, o.out, std::make_shared<const ColourModel>(m), o.learning);
-      c.learned.min_confidence = min_confidence;
+      c.learned.min_confidence = confidence;
       return c;
     };
     if (o.folds > 1) {
+      // One detection pass per fold at the lowest threshold asked for, scored at each (scoreAt).
+      std::vector<double> thresholds = o.sweep;
+      thresholds.push_back(min_confidence);
+      std::sort(thresholds.begin(), thresholds.end());
+      thresholds.erase(std::unique(thresholds.begin(), thresholds.end()), thresholds.end());
       std::vector<int> fold(frames.size());
       std::iota(fold.begin(), fold.end(), 0);
       std::mt19937 rng(static_cast<unsigned>(o.learning.training.seed));
       std::shuffle(fold.begin(), fold.end(), rng);
-      LearningScore total;
+      std::vector<LearningScore> totals(thresholds.size());
       for (int k = 0; k < o.folds; ++k) {
         std::vector<const FrameSamples*> train;
         std::vector<LabelledFrame> held_out;
@@ -266,11 +305,16 @@ int main(int argc, char** argv) {
           if (fold[i] % o.folds == k) held_out.push_back(frames[i]);
           else train.push_back(&samples[i]);
         }
-        total.add(score(Detector(configWith(trainOn(train, o.learning))), held_out, o.learning));
+        const Detector fold_detector(configWith(trainOn(train, o.learning), thresholds.front()));
+        const std::vector<LearningScore> scores = scoreAt(fold_detector, held_out, o.learning, thresholds);
+        for (std::size_t t = 0; t < thresholds.size(); ++t) totals[t].add(scores[t]);
       }
-      printScore(total, o.learning,
+      const std::size_t chosen = std::find(thresholds.begin(), thresholds.end(), min_confidence) - thresholds.begin();
+      printScore(totals[chosen], o.learning,
                  std::to_string(o.folds) + "-fold cross-validation by frame (" + std::to_string(frames.size()) +
-                     " frames; labels under " + std::to_string(o.learning.min_label_px) + " px tall not counted)");
+                     " frames; labels under " + std::to_string(o.learning.min_label_px) +
+                     " px tall not counted; min_confidence " + formatted(min_confidence) + ")");
+      if (!o.sweep.empty()) printSweep(thresholds, totals, o.learning);
     }
     std::vector<const FrameSamples*> all;
     for (const FrameSamples& s : samples) all.push_back(&s);

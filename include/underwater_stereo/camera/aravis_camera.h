@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "underwater_stereo/camera/genicam_features.h"
+#include "underwater_stereo/camera/stereo_source.h"
 
 namespace underwater_stereo {
 
@@ -45,12 +46,16 @@ struct CameraSettings {
 
 /// A received frame.
 struct CameraFrame {
-  cv::Mat image;                 ///< owns its pixels (copied out of the stream buffer)
+  cv::Mat image;                 ///< a view of `pixels`
+  /// The pixels, copied once out of the stream buffer into storage a receiver can take over (a ROS message's
+  /// data vector) without a second copy.
+  std::shared_ptr<std::vector<std::uint8_t>> pixels;
   std::string encoding;          ///< sensor_msgs encoding: bayer_rggb8, ..., mono8, rgb8
   std::uint64_t device_ns = 0;   ///< the camera's timestamp (0 if it has none)
   std::int64_t host_ns = 0;      ///< host receive time (system clock)
   std::uint32_t frame_id = 0;    ///< GigE Vision block id
   std::int64_t capture_ns = 0;   ///< capture time on the host clock (set by the stereo source, ClockMapper)
+  FrameCapture capture;          ///< exposure, gain, ... (set by the stereo source)
 };
 
 /// Stream counters (cumulative since opened).
@@ -95,6 +100,8 @@ class AravisCamera : public FeatureAccess {
   long getInteger(const std::string& name) const override;
   void setString(const std::string& name, const std::string& value) override;
   std::string getString(const std::string& name) const override;
+  void setBoolean(const std::string& name, bool value) override;
+  bool getBoolean(const std::string& name) const override;
   void execute(const std::string& name) override;
 
  private:

@@ -55,6 +55,8 @@ class FramePairer {
   std::uint64_t dropped() const { return dropped_; }
   std::uint64_t pairs() const { return pairs_; }
   std::size_t waiting(Side side) const { return waiting_[side].size(); }
+  /// A new tolerance (the frame rate changed); counters and waiting frames stay.
+  void setMaxSkewNs(std::int64_t max_skew_ns) { max_skew_ns_ = max_skew_ns; }
   /// Drops everything waiting (a camera was reopened); not counted.
   void clear() {
     waiting_[0].clear();

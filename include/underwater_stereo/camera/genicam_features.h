@@ -19,6 +19,8 @@ class FeatureAccess {
   virtual long getInteger(const std::string& name) const = 0;
   virtual void setString(const std::string& name, const std::string& value) = 0;  ///< also enumerations
   virtual std::string getString(const std::string& name) const = 0;
+  virtual void setBoolean(const std::string& name, bool value) = 0;
+  virtual bool getBoolean(const std::string& name) const = 0;
   virtual void execute(const std::string& name) = 0;  ///< a command, e.g. TriggerSoftware
 };
 

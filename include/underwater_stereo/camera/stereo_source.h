@@ -6,6 +6,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +15,18 @@
 #include "underwater_stereo/sim/ground_truth.h"
 
 namespace underwater_stereo {
+
+/// How one camera took one frame (real cameras only).
+struct FrameCapture {
+  std::string camera;              ///< the camera's description (id, vendor, model, serial)
+  std::uint32_t frame_id = 0;      ///< GigE Vision block id
+  std::uint64_t device_ns = 0;     ///< the camera's timestamp (PTP time when ptp is true)
+  bool ptp = false;                ///< the capture time derives from the cameras' shared PTP clock
+  double exposure_us = std::numeric_limits<double>::quiet_NaN();
+  double gain = std::numeric_limits<double>::quiet_NaN();  ///< in gain_unit
+  std::string gain_unit;           ///< "dB", or "raw" on cameras with GainRaw only
+  double temperature_c = std::numeric_limits<double>::quiet_NaN();  ///< NaN: no DeviceTemperature
+};
 
 /// One synchronised stereo pair. Images share one capture instant.
 struct StereoFrame {
@@ -26,6 +40,11 @@ struct StereoFrame {
   std::vector<sim::GroundTruthObject> ground_truth;
   /// The simulated source only: the left optical frame's true pose in the scene's world frame.
   std::optional<Eigen::Isometry3d> camera_pose_world;
+  /// Real cameras only: the storage behind `left` and `right` (one copy out of the camera's buffer). The
+  /// receiver may move it into its message instead of copying; `left` and `right` must not be read after that.
+  std::shared_ptr<std::vector<std::uint8_t>> left_pixels, right_pixels;
+  /// Real cameras only: how each frame was taken.
+  std::optional<FrameCapture> left_capture, right_capture;
 };
 
 /// A source of stereo pairs that pushes them to a callback from its own thread.

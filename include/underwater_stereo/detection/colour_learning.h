@@ -83,6 +83,12 @@ struct LearningScore {
 /// box centre inside the label's box.
 LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options);
 
+/// The same at each of `min_confidences` (ascending, none under the detector's colour_model.min_confidence),
+/// from one detection pass: a detection counts at a threshold when its confidence reaches it. Equal to
+/// detectors configured with each threshold, since a region is only ever suppressed by a more confident one.
+std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<LabelledFrame>& frames,
+                                   const LearningOptions& options, const std::vector<double>& min_confidences);
+
 /// `base` with candidates.source learned and `model` (loaded from `model_file`), colours = options.colours
 /// (the base's entries kept for colours it has).
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,

@@ -39,10 +39,12 @@ enum class SaliencyKind { kChroma = 0, kFull = 1 };
 struct WaterContrast {
   cv::Mat water;        ///< CV_8UC3: the local water colour (B, G, R) per pixel
   cv::Mat contrast;     ///< CV_32FC3: log((I + o) / (B + o)) per channel
-  cv::Mat chroma;       ///< CV_32FC3: contrast minus its mean over the channels (brightness removed)
-  cv::Mat saliency[2];  ///< CV_32FC1: |(x - median) / spread| over the channels, x = chroma (kChroma) or contrast (kFull)
+  cv::Mat saliency[2];  ///< CV_32FC1: |(x - median) / spread| over the channels, x = chromaOf(contrast) (kChroma) or contrast (kFull)
   ContrastStats stats;
 };
+
+/// The chroma of a contrast: minus its mean over the channels (brightness removed).
+cv::Vec3f chromaOf(const cv::Vec3f& contrast);
 
 /// Measures `bgr` (8-bit BGR) against its own water and spread.
 /// @throw std::invalid_argument when `bgr` is empty or not CV_8UC3, or the config is invalid.

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// bench_fake_cameras: two of Aravis' fake GigE Vision cameras (real GVCP/GVSP over UDP) that stream a rendered
+// stereo pair as BayerRG8 instead of the fake's ramp, for scripts/bench's whole-pipeline figures: the camera
+// nodelet and the detector get real packets and a scene with objects. Runs until SIGINT/SIGTERM.
+// (Like test/fake_gv_camera.h, a stand-in for camera hardware: it drives Aravis' fake directly.)
+#include <arv.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <thread>
+
+namespace {
+
+std::atomic<bool> stop{false};
+
+/// BGR -> Bayer RGGB mosaic (R at even row/even column, B at odd/odd).
+cv::Mat toBayerRggb(const cv::Mat& bgr) {
+  cv::Mat out(bgr.size(), CV_8UC1);
+  for (int y = 0; y < bgr.rows; ++y) {
+    const cv::Vec3b* in = bgr.ptr<cv::Vec3b>(y);
+    std::uint8_t* o = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < bgr.cols; ++x) o[x] = in[x][(y % 2 == 0) ? (x % 2 == 0 ? 2 : 1) : (x % 2 == 0 ? 1 : 0)];
+  }
+  return out;
+}
+
+struct Pattern {
+  cv::Mat mosaic;
+  ArvFakeCamera* camera = nullptr;
+};
+
+/// The fake's fill pattern: the mosaic, cropped to (or placed in the corner of) the region the host set (read
+/// from the fake's registers: the buffer's own size is set after the pattern ran).
+void fillWithImage(ArvBuffer* buffer, void* data, guint32, guint32, ArvPixelFormat) {
+  const Pattern& p = *static_cast<const Pattern*>(data);
+  guint32 width = 0, height = 0;
+  arv_fake_camera_read_register(p.camera, ARV_FAKE_CAMERA_REGISTER_WIDTH, &width);
+  arv_fake_camera_read_register(p.camera, ARV_FAKE_CAMERA_REGISTER_HEIGHT, &height);
+  // The fake checked the buffer holds width x height before calling (get_data's size is what was received).
+  auto* pixels = static_cast<std::uint8_t*>(const_cast<void*>(arv_buffer_get_data(buffer, nullptr)));
+  if (!pixels || width == 0 || height == 0) return;
+  const int w = std::min(static_cast<int>(width), p.mosaic.cols), h = std::min(static_cast<int>(height), p.mosaic.rows);
+  for (int y = 0; y < h; ++y) std::memcpy(pixels + static_cast<size_t>(y) * width, p.mosaic.ptr(y), w);
+}
+
+int usage() {
+  std::cerr << "usage: bench_fake_cameras LEFT.png RIGHT.png [LEFT_ADDRESS RIGHT_ADDRESS]\n"
+               "  two fake GigE cameras (default 127.0.0.1 and 127.0.0.2, which must be on lo) streaming the two\n"
+               "  images as BayerRG8 (set the nodelet's ROI to the images' size; the fake's sensor is 2048x2048)\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3 && argc != 5) return usage();
+  Pattern pattern[2];
+  for (int s = 0; s < 2; ++s) {
+    const cv::Mat bgr = cv::imread(argv[1 + s], cv::IMREAD_COLOR);
+    if (bgr.empty()) {
+      std::cerr << "bench_fake_cameras: cannot read the image '" << argv[1 + s] << "'\n";
+      return 1;
+    }
+    pattern[s].mosaic = toBayerRggb(bgr);
+  }
+  const char* address[2] = {argc == 5 ? argv[3] : "127.0.0.1", argc == 5 ? argv[4] : "127.0.0.2"};
+  ArvGvFakeCamera* fake[2] = {nullptr, nullptr};
+  for (int s = 0; s < 2; ++s) {
+    fake[s] = arv_gv_fake_camera_new(address[s], s == 0 ? "BENCH-LEFT" : "BENCH-RIGHT");
+    if (!fake[s] || !arv_gv_fake_camera_is_running(fake[s])) {
+      std::cerr << "bench_fake_cameras: cannot start a fake camera on " << address[s] << "\n";
+      return 1;
+    }
+    pattern[s].camera = arv_gv_fake_camera_get_fake_camera(fake[s]);
+    arv_fake_camera_set_fill_pattern(pattern[s].camera, fillWithImage, &pattern[s]);
+  }
+  std::signal(SIGINT, [](int) { stop = true; });
+  std::signal(SIGTERM, [](int) { stop = true; });
+  std::cout << "bench_fake_cameras: " << pattern[0].mosaic.cols << "x" << pattern[0].mosaic.rows << " BayerRG8 on " << address[0]
+            << " and " << address[1] << std::endl;
+  while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  for (ArvGvFakeCamera* f : fake) g_object_unref(f);
+  return 0;
+}
