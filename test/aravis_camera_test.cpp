@@ -34,7 +34,7 @@ double meanOfFrames(AravisCamera& camera) {
   int got = 0;
   CameraFrame f;
   for (int i = 0; i < 10 && got < 3; ++i) {
-    if (camera.next(f, 1000)) {
+    if (camera.next(f, test::scaledMs(1000))) {
       sum += cv::mean(f.image)[0];
       ++got;
     }
@@ -57,7 +57,7 @@ TEST(AravisCamera, StreamsCompleteFramesWithTheConfiguredFormatAndReadsSettingsB
   EXPECT_GE(report.size(), 5U);
   camera.start();
   CameraFrame f;
-  ASSERT_TRUE(camera.next(f, 2000));
+  ASSERT_TRUE(camera.next(f, test::scaledMs(2000)));
   EXPECT_EQ(f.encoding, "bayer_rggb8");
   EXPECT_EQ(f.image.type(), CV_8UC1);
   EXPECT_EQ(f.image.size(), cv::Size(512, 512));
@@ -67,7 +67,7 @@ TEST(AravisCamera, StreamsCompleteFramesWithTheConfiguredFormatAndReadsSettingsB
   EXPECT_GT(f.device_ns, 0U);
   EXPECT_GT(f.host_ns, 0);
   CameraFrame g;
-  ASSERT_TRUE(camera.next(g, 2000));
+  ASSERT_TRUE(camera.next(g, test::scaledMs(2000)));
   EXPECT_NE(g.frame_id, f.frame_id);
   camera.stop();
 }
@@ -92,7 +92,7 @@ TEST(AravisCamera, AutoExposureOnACameraWithoutItStreamsAtItsCurrentValueNamingT
     EXPECT_NEAR(camera.getFloat("ExposureTimeAbs"), 5000, 1);
     camera.start();
     CameraFrame f;
-    EXPECT_TRUE(camera.next(f, 2000));
+    EXPECT_TRUE(camera.next(f, test::scaledMs(2000)));
     camera.stop();
   }
   s.exposure_us = 5000;
@@ -140,9 +140,9 @@ TEST(AravisCamera, SoftwareAndHardwareTriggerAreConfiguredExplicitlyAndReadBack)
     EXPECT_EQ(camera.getString("TriggerSource"), "Software");
     camera.start();
     CameraFrame f;
-    EXPECT_FALSE(camera.next(f, 300)) << "no trigger, no frame";
+    EXPECT_FALSE(camera.next(f, test::scaledMs(300))) << "no trigger, no frame";
     camera.trigger();
-    EXPECT_TRUE(camera.next(f, 2000)) << "one trigger, one frame";
+    EXPECT_TRUE(camera.next(f, test::scaledMs(2000))) << "one trigger, one frame";
   }
   // A value the camera refuses is a clear error naming the feature.
   s.trigger_line = "Line7";
@@ -165,9 +165,9 @@ TEST(AravisCamera, LostPacketsAreCountedAndIncompleteFramesNeverReturned) {
   camera.start();
   int complete = 0;
   CameraFrame f;
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(4000));
   while (std::chrono::steady_clock::now() < end) {
-    if (!camera.next(f, 500)) continue;
+    if (!camera.next(f, test::scaledMs(500))) continue;
     ++complete;
     EXPECT_EQ(f.image.size(), cv::Size(512, 512));
   }

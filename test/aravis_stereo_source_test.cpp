@@ -61,7 +61,7 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
   });
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(6000));
   while (std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     std::lock_guard<std::mutex> lock(mutex);
@@ -107,7 +107,8 @@ TEST(AravisStereoSource, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFra
     std::lock_guard<std::mutex> lock(mutex);
     if (f.left_capture && f.right_capture) captures.emplace_back(*f.left_capture, *f.right_capture);
   });
-  for (int i = 0; i < 100; ++i) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(10000));
+  while (std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     std::lock_guard<std::mutex> lock(mutex);
     if (captures.size() >= 5) break;

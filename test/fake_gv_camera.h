@@ -4,9 +4,26 @@
 #include <arv.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
 
 namespace underwater_stereo {
 namespace test {
+
+/// A wait of the fake-camera tests, in ms, times UWS_TEST_TIME_SCALE (a number >= 1, default 1). Under
+/// emulation (scripts/check-arm64 sets 10) the in-process fake camera and the receiver deliver a few complete
+/// frames a second instead of the configured rate.
+inline int scaledMs(int ms) {
+  const char* text = std::getenv("UWS_TEST_TIME_SCALE");
+  if (!text || !*text) return ms;
+  char* end = nullptr;
+  const double scale = std::strtod(text, &end);
+  if (*end != '\0' || !(scale >= 1 && scale <= 1000)) {
+    throw std::invalid_argument(std::string("UWS_TEST_TIME_SCALE must be a number in 1..1000, not '") + text + "'");
+  }
+  return static_cast<int>(ms * scale);
+}
 
 class FakeGvCamera {
  public:

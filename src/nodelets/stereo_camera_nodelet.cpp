@@ -284,6 +284,8 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     diagnostics_->add("pairing", [this](diagnostic_updater::DiagnosticStatusWrapper& s) { diagnosePairing(s); });
     diagnostics_timer_ = getNodeHandle().createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) {
       last_status_ = aravis_->status();
+      warnUnsupported(last_status_.left, 0);
+      warnUnsupported(last_status_.right, 1);
       diagnostics_->force_update();
     });
     NODELET_INFO_STREAM("StereoCameraNodelet: source=aravis left=" << config.left.id << " right=" << config.right.id
@@ -309,6 +311,15 @@ class StereoCameraNodelet : public nodelet::Nodelet {
                           << " packet_delay_ns=" << r.packet_delay_ns);
     }
     toReconfigure(aravis_->controls(), r);
+  }
+
+  /// A feature the configuration asks for and the camera lacks is a WARN in the log, once per list.
+  void warnUnsupported(const CameraStatus& c, int side) {
+    if (c.unsupported == warned_unsupported_[side]) return;
+    warned_unsupported_[side] = c.unsupported;
+    for (const auto& u : c.unsupported) {
+      NODELET_WARN_STREAM("StereoCameraNodelet: " << (side == 0 ? "left" : "right") << " camera lacks " << u);
+    }
   }
 
   void diagnoseCamera(diagnostic_updater::DiagnosticStatusWrapper& stat, int side) {
@@ -406,6 +417,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<StereoCameraConfig>> reconfigure_;
   ros::WallTimer diagnostics_timer_;
   StereoStatus last_status_;
+  std::vector<std::string> warned_unsupported_[2];
   std::uint64_t last_frames_[2] = {0, 0};
 };
 
