@@ -126,3 +126,34 @@ TEST(AravisStereoSource, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFra
   EXPECT_EQ(left_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 3000U);
   EXPECT_EQ(right_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 7000U);
 }
+
+TEST(AravisStereoSource, MasterSlaveAutoGainOnACameraWithoutGainInDbIsReportedUnsupported) {
+  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
+    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
+  }
+  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
+  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
+  AravisStereoConfig config;
+  for (CameraSettings* s : {&config.left, &config.right}) s->trigger_line = "Line0";
+  config.left.id = "127.0.0.1";
+  config.right.id = "127.0.0.2";
+  config.controls.exposure_sync = ExposureSync::kMasterSlave;
+  config.controls.gain = -1;  // auto, but the fake has GainRaw only
+  AravisStereoSource source(config, [](bool, const std::string&) {});
+  source.start([](const StereoFrame&) {});
+  auto noted = [](const CameraStatus& c) {
+    for (const auto& u : c.unsupported) {
+      if (u.rfind("Gain in dB:", 0) == 0) return true;
+    }
+    return false;
+  };
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(test::scaledMs(10000));
+  StereoStatus status = source.status();
+  while (std::chrono::steady_clock::now() < end && !(noted(status.left) && noted(status.right))) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    status = source.status();
+  }
+  source.stop();
+  EXPECT_TRUE(noted(status.left)) << "left camera: the held gain is not reported";
+  EXPECT_TRUE(noted(status.right)) << "right camera: the held gain is not reported";
+}

@@ -245,6 +245,10 @@ void AravisStereoSource::runCamera(int s) {
       side.status.description = camera->description();
       side.status.unsupported = camera->unsupported();
       if (config_.ptp && !side.status.ptp_settled) side.status.unsupported.push_back("PTP: " + side.status.ptp);
+      if (side.in_use.exposure_sync == ExposureSync::kMasterSlave && side.in_use.gain < 0 && !side.gain_db) {
+        side.status.unsupported.push_back("Gain in dB: the camera has GainRaw only, so master_slave holds its gain at " +
+                                          std::to_string(side.applied.gain_db) + " (raw) and sets the exposure alone");
+      }
       side.status.state = CameraState::kStreaming;
       side.status.exposure = side.applied;
       side.status.gain_unit = side.gain_db ? "dB" : "raw";
