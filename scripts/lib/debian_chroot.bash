@@ -60,6 +60,7 @@ uws_chroot_run() {
   unshare --mount --pid --fork --propagation private "${net[@]}" /bin/sh -euc '
     dir=$1 debs=$2 command=$3
     [ -z "$4" ] || ip link set lo up
+    mount --bind "$dir" "$dir"  # / in the chroot a mount point, as on a real machine (unshare needs one)
     mount -t proc proc "$dir/proc"
     mount -t sysfs sysfs "$dir/sys"
     mount --bind /dev "$dir/dev"
