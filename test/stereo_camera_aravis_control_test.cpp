@@ -19,6 +19,7 @@
 #include <numeric>
 #include <vector>
 
+#include "diagnostics_helpers.h"
 #include "fake_gv_camera.h"
 #include "ros_test_helpers.h"
 #include "underwater_stereo/FrameMetadata.h"
@@ -91,19 +92,11 @@ struct Received {
   }
   diagnostic_msgs::DiagnosticStatus diagnostic(const std::string& suffix) {
     std::lock_guard<std::mutex> lock(mutex);
-    for (const auto& [name, status] : diagnostics) {
-      if (name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) return status;
-    }
-    return diagnostic_msgs::DiagnosticStatus();
+    return underwater_stereo::test::statusEndingWith(diagnostics, suffix);
   }
 };
 
-std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key) {
-  for (const auto& kv : s.values) {
-    if (kv.key == key) return kv.value;
-  }
-  return "";
-}
+using underwater_stereo::test::value;
 
 bool addSecondLoopbackAddress() {
   return std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo") == 0;

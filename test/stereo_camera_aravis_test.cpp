@@ -15,6 +15,7 @@
 #include <mutex>
 #include <vector>
 
+#include "diagnostics_helpers.h"
 #include "fake_gv_camera.h"
 #include "ros_test_helpers.h"
 
@@ -37,19 +38,11 @@ struct Received {
   }
   diagnostic_msgs::DiagnosticStatus diagnostic(const std::string& suffix) {
     std::lock_guard<std::mutex> lock(mutex);
-    for (const auto& [name, status] : diagnostics) {
-      if (name.size() >= suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) return status;
-    }
-    return diagnostic_msgs::DiagnosticStatus();
+    return underwater_stereo::test::statusEndingWith(diagnostics, suffix);
   }
 };
 
-std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key) {
-  for (const auto& kv : s.values) {
-    if (kv.key == key) return kv.value;
-  }
-  return "";
-}
+using underwater_stereo::test::value;
 
 }  // namespace
 
