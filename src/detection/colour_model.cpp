@@ -104,29 +104,33 @@ void ColourModel::save(const std::string& path) const {
   fs << "}";
 }
 
-ColourVerdict ColourModel::classify(const std::vector<float>& features) const {
+std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const {
   if (empty()) throw std::invalid_argument("ColourModel::classify: empty model");
-  if (features.size() != static_cast<std::size_t>(kBlobFeatureCount)) {
-    throw std::invalid_argument("ColourModel::classify: " + std::to_string(features.size()) + " features, need " +
-                                std::to_string(kBlobFeatureCount));
+  if (features.empty()) return {};
+  if (features.type() != CV_32FC1 || features.cols != kBlobFeatureCount) {
+    throw std::invalid_argument("ColourModel::classify: need CV_32F rows of " + std::to_string(kBlobFeatureCount) +
+                                " features, got " + std::to_string(features.cols) + " columns");
   }
   cv::Mat votes;
-  forest_->getVotes(cv::Mat(1, kBlobFeatureCount, CV_32F, const_cast<float*>(features.data())), votes, 0);
-  // Row 0: the class labels; row 1: the votes for each. The best colour is reported with its share even when
-  // background has more votes: the caller's threshold (colour_model.min_confidence) decides.
-  ColourVerdict v;
-  int total = 0, best = 0;
-  for (int j = 0; j < votes.cols; ++j) {
-    const int label = votes.at<int>(0, j), n = votes.at<int>(1, j);
-    total += n;
-    if (label != kBackground && n > best) {
-      best = n;
-      v.colour = label - 1;
+  forest_->getVotes(features, votes, 0);
+  // Row 0: the class labels; row 1 + i: the votes for each, for region i. The best colour is reported with its
+  // share even when background has more votes: the caller's threshold (colour_model.min_confidence) decides.
+  std::vector<ColourVerdict> verdicts(features.rows);
+  for (int i = 0; i < features.rows; ++i) {
+    ColourVerdict& v = verdicts[i];
+    int total = 0, best = 0;
+    for (int j = 0; j < votes.cols; ++j) {
+      const int label = votes.at<int>(0, j), n = votes.at<int>(1 + i, j);
+      total += n;
+      if (label != kBackground && n > best) {
+        best = n;
+        v.colour = label - 1;
+      }
     }
+    v.confidence = total > 0 ? double(best) / total : 0.0;
+    if (best == 0) v.colour = -1;
   }
-  v.confidence = total > 0 ? double(best) / total : 0.0;
-  if (best == 0) v.colour = -1;
-  return v;
+  return verdicts;
 }
 
 }  // namespace underwater_stereo

@@ -116,8 +116,14 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     ColourVerdict verdict;
   };
   std::vector<Named> named;
-  for (BlobProposal& b : proposed.regions) {
-    const ColourVerdict v = config.model->classify(b.features);
+  cv::Mat features(static_cast<int>(proposed.regions.size()), kBlobFeatureCount, CV_32F);
+  for (int i = 0; i < features.rows; ++i) {
+    std::copy(proposed.regions[i].features.begin(), proposed.regions[i].features.end(), features.ptr<float>(i));
+  }
+  const std::vector<ColourVerdict> verdicts = config.model->classify(features);
+  for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
+    BlobProposal& b = proposed.regions[i];
+    const ColourVerdict& v = verdicts[i];
     if (v.colour < 0 || v.confidence < kExplainShare * config.min_confidence) continue;
     const std::string colour = config.model->colours()[v.colour];
     if (designated[v.colour] < 0) {
