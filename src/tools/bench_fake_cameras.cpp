@@ -19,6 +19,14 @@ namespace {
 
 std::atomic<bool> stop{false};
 
+/// Aravis' fake serves a trigger only at the next tick of its own grid of 1 / trigger_frequency on the monotonic
+/// clock (25 Hz by default: two triggers sent 1 ms apart around a tick come out 40 ms apart, an unpaired pair;
+/// that is the fake, a real camera exposes within microseconds of its trigger). The nodelet triggers on ticks
+/// of the same clock at multiples of 1 / rate: with the fakes' grid at 60 Hz (a multiple of 15 Hz) both
+/// triggers of a pair are served at the same tick, 16.7 ms after they were sent, unless one is sent more than
+/// ~15 ms late. (A 1 kHz grid cost the fakes a whole core.)
+constexpr double kTriggerServiceHz = 60.0;
+
 /// BGR -> Bayer RGGB mosaic (R at even row/even column, B at odd/odd).
 cv::Mat toBayerRggb(const cv::Mat& bgr) {
   cv::Mat out(bgr.size(), CV_8UC1);
@@ -79,6 +87,7 @@ int main(int argc, char** argv) {
     }
     pattern[s].camera = arv_gv_fake_camera_get_fake_camera(fake[s]);
     arv_fake_camera_set_fill_pattern(pattern[s].camera, fillWithImage, &pattern[s]);
+    arv_fake_camera_set_trigger_frequency(pattern[s].camera, kTriggerServiceHz);
   }
   std::signal(SIGINT, [](int) { stop = true; });
   std::signal(SIGTERM, [](int) { stop = true; });
