@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -20,12 +21,13 @@ namespace {
 std::atomic<bool> stop{false};
 
 /// Aravis' fake serves a trigger only at the next tick of its own grid of 1 / trigger_frequency on the monotonic
-/// clock (25 Hz by default: two triggers sent 1 ms apart around a tick come out 40 ms apart, an unpaired pair;
-/// that is the fake, a real camera exposes within microseconds of its trigger). The nodelet triggers on ticks
-/// of the same clock at multiples of 1 / rate: with the fakes' grid at 60 Hz (a multiple of 15 Hz) both
-/// triggers of a pair are served at the same tick, 16.7 ms after they were sent, unless one is sent more than
-/// ~15 ms late. (A 1 kHz grid cost the fakes a whole core.)
-constexpr double kTriggerServiceHz = 60.0;
+/// clock (25 Hz by default: two triggers that arrive 1 ms apart around a tick come out 40 ms apart, an unpaired
+/// pair; a real camera exposes within microseconds of its trigger). The nodelet sends its software triggers just
+/// after the ticks of the same clock at multiples of 1 / rate: with the fakes' grid at that rate (--trigger-hz,
+/// default 15) their ticks are the nodelet's, and both triggers of a pair are served at the next one, a period
+/// after they were sent, unless one is sent a whole period late. (A 60 Hz grid lay 0.7 ms after the nodelet's
+/// ticks, 4 % of pairs split; a 1 kHz one cost the fakes a whole core.)
+constexpr double kDefaultTriggerHz = 15.0;
 
 /// BGR -> Bayer RGGB mosaic (R at even row/even column, B at odd/odd).
 cv::Mat toBayerRggb(const cv::Mat& bgr) {
@@ -58,15 +60,27 @@ void fillWithImage(ArvBuffer* buffer, void* data, guint32, guint32, ArvPixelForm
 }
 
 int usage() {
-  std::cerr << "usage: bench_fake_cameras LEFT.png RIGHT.png [LEFT_ADDRESS RIGHT_ADDRESS]\n"
+  std::cerr << "usage: bench_fake_cameras [--trigger-hz HZ] LEFT.png RIGHT.png [LEFT_ADDRESS RIGHT_ADDRESS]\n"
                "  two fake GigE cameras (default 127.0.0.1 and 127.0.0.2, which must be on lo) streaming the two\n"
-               "  images as BayerRG8 (set the nodelet's ROI to the images' size; the fake's sensor is 2048x2048)\n";
+               "  images as BayerRG8 (set the nodelet's ROI to the images' size; the fake's sensor is 2048x2048);\n"
+               "  in software trigger mode they serve triggers on ticks of HZ (default 15: the nodelet's rate)\n";
   return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  double trigger_hz = kDefaultTriggerHz;
+  if (argc > 2 && std::string(argv[1]) == "--trigger-hz") {
+    char* end = nullptr;
+    trigger_hz = std::strtod(argv[2], &end);
+    if (end == argv[2] || *end != '\0' || !(trigger_hz >= 1 && trigger_hz <= 1000)) {
+      std::cerr << "bench_fake_cameras: --trigger-hz must be a number in [1, 1000], got '" << argv[2] << "'\n";
+      return 2;
+    }
+    argc -= 2;
+    argv += 2;
+  }
   if (argc != 3 && argc != 5) return usage();
   Pattern pattern[2];
   for (int s = 0; s < 2; ++s) {
@@ -87,7 +101,7 @@ int main(int argc, char** argv) {
     }
     pattern[s].camera = arv_gv_fake_camera_get_fake_camera(fake[s]);
     arv_fake_camera_set_fill_pattern(pattern[s].camera, fillWithImage, &pattern[s]);
-    arv_fake_camera_set_trigger_frequency(pattern[s].camera, kTriggerServiceHz);
+    arv_fake_camera_set_trigger_frequency(pattern[s].camera, trigger_hz);
   }
   std::signal(SIGINT, [](int) { stop = true; });
   std::signal(SIGTERM, [](int) { stop = true; });
