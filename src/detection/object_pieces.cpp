@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/object_pieces.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace underwater_stereo {
+namespace {
+
+struct Box {
+  Eigen::Vector3f min, max;
+};
+
+Box boxOf(const std::vector<Eigen::Vector3f>& points) {
+  Box b{Eigen::Vector3f::Constant(1e30f), Eigen::Vector3f::Constant(-1e30f)};
+  for (const auto& p : points) {
+    b.min = b.min.cwiseMin(p);
+    b.max = b.max.cwiseMax(p);
+  }
+  return b;
+}
+
+/// Whether any point of `a` lies within `gap` of one of `b` (boxes first: most pairs are far apart).
+bool touching(const std::vector<Eigen::Vector3f>& a, const Box& box_a, const std::vector<Eigen::Vector3f>& b,
+              const Box& box_b, float gap) {
+  if (a.empty() || b.empty()) return false;
+  if (((box_a.min.array() - gap) > box_b.max.array()).any() || ((box_b.min.array() - gap) > box_a.max.array()).any()) {
+    return false;
+  }
+  const float gap2 = gap * gap;
+  for (const auto& p : a) {
+    // Only the points of a near b's box can touch it.
+    if (((p.array() + gap) < box_b.min.array()).any() || ((p.array() - gap) > box_b.max.array()).any()) continue;
+    for (const auto& q : b) {
+      if ((p - q).squaredNorm() <= gap2) return true;
+    }
+  }
+  return false;
+}
+
+int root(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> piecesOfOneObject(const std::vector<int>& colours,
+                                                const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m) {
+  if (colours.size() != clusters.size()) throw std::invalid_argument("piecesOfOneObject: one colour per cluster needed");
+  if (!(gap_m > 0)) throw std::invalid_argument("piecesOfOneObject: gap_m must be > 0");
+  const int n = static_cast<int>(clusters.size());
+  std::vector<Box> boxes;
+  for (const auto& c : clusters) boxes.push_back(boxOf(c));
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (colours[i] != colours[j] || root(parent, i) == root(parent, j)) continue;
+      if (touching(clusters[i], boxes[i], clusters[j], boxes[j], static_cast<float>(gap_m))) {
+        parent[root(parent, j)] = root(parent, i);
+      }
+    }
+  }
+  std::vector<std::vector<int>> groups(n);
+  for (int i = 0; i < n; ++i) groups[root(parent, i)].push_back(i);
+  std::vector<std::vector<int>> out;
+  for (auto& g : groups) {
+    if (g.size() > 1) out.push_back(std::move(g));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Candidate joinedCandidate(const std::vector<const Candidate*>& pieces, const cv::Size& frame) {
+  if (pieces.empty()) throw std::invalid_argument("joinedCandidate: no pieces");
+  cv::Rect roi = pieces.front()->roi;
+  const Candidate* best = pieces.front();
+  const Candidate* largest_piece = pieces.front();
+  cv::Scalar colour_sum;
+  double area = 0;
+  for (const Candidate* p : pieces) {
+    if (p->colour_index != best->colour_index) throw std::invalid_argument("joinedCandidate: pieces of different colours");
+    roi |= p->roi;
+    if (p->colour_fraction > best->colour_fraction) best = p;
+    if (p->area_px > largest_piece->area_px) largest_piece = p;
+    colour_sum += p->mean_bgr * p->area_px;
+    area += p->area_px;
+  }
+  roi &= cv::Rect(cv::Point(), frame);
+  Candidate c = *best;
+  c.roi = roi;
+  c.mask = cv::Mat(roi.size(), CV_8UC1, cv::Scalar(0));  // a new buffer: assigning zeros() would clear the piece's mask
+  for (const Candidate* p : pieces) {
+    const cv::Rect r = p->roi & roi;
+    if (r.empty()) continue;
+    cv::Mat into = c.mask(r - roi.tl());
+    cv::bitwise_or(into, p->mask(r - p->roi.tl()), into);
+  }
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(c.mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, roi.tl());
+  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+    return cv::contourArea(a) < cv::contourArea(b);
+  });
+  if (largest != contours.end() && largest->size() >= 3) c.contour = *largest;
+  c.area_px = area;
+  if (c.contour.size() >= 3) c.outline = classifyOutline(c.contour);
+  if (area > 0) c.mean_bgr = colour_sum * (1.0 / area);
+  c.face_contrast = largest_piece->face_contrast;
+  return c;
+}
+
+}  // namespace underwater_stereo

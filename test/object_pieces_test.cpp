@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "underwater_stereo/detection/object_pieces.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// Points on a flat patch of `side` m at depth z, from x0, every 1 cm.
+std::vector<Eigen::Vector3f> patch(float x0, float z, float side) {
+  std::vector<Eigen::Vector3f> p;
+  for (float x = 0; x <= side; x += 0.01f) {
+    for (float y = 0; y <= side; y += 0.01f) p.emplace_back(x0 + x, y, z);
+  }
+  return p;
+}
+
+TEST(ObjectPieces, JoinsTouchingClustersOfOneColourOnly) {
+  // Pieces 0 and 1 of one red object 5 cm apart; 2 red 1 m further; 3 green touching 1; 4 red touching 0.
+  const std::vector<std::vector<Eigen::Vector3f>> clusters{patch(0, 1, 0.2f), patch(0.25f, 1, 0.2f), patch(0, 2, 0.2f),
+                                                           patch(0.46f, 1, 0.2f), patch(-0.25f, 1, 0.2f)};
+  const std::vector<int> colours{0, 0, 0, 1, 0};
+  EXPECT_EQ(piecesOfOneObject(colours, clusters, 0.06), (std::vector<std::vector<int>>{{0, 1, 4}}));
+  // Narrower than the gaps: nothing joined.
+  EXPECT_TRUE(piecesOfOneObject(colours, clusters, 0.04).empty());
+  // Joined through a member: 4 touches 0, 0 touches 1.
+  EXPECT_EQ(piecesOfOneObject({0, 0, 0}, {clusters[4], clusters[1], clusters[0]}, 0.06),
+            (std::vector<std::vector<int>>{{0, 1, 2}}));
+}
+
+TEST(ObjectPieces, RefusesBadInput) {
+  EXPECT_THROW(piecesOfOneObject({0}, {}, 0.1), std::invalid_argument);
+  EXPECT_THROW(piecesOfOneObject({0}, {patch(0, 1, 0.1f)}, 0.0), std::invalid_argument);
+  EXPECT_TRUE(piecesOfOneObject({0, 0}, {{}, patch(0, 1, 0.1f)}, 0.1).empty());
+  EXPECT_THROW(joinedCandidate({}, cv::Size(100, 100)), std::invalid_argument);
+  Candidate a, b;
+  a.colour_index = 0;
+  b.colour_index = 1;
+  EXPECT_THROW(joinedCandidate({&a, &b}, cv::Size(100, 100)), std::invalid_argument);
+}
+
+Candidate disc(const cv::Point& centre, int radius, double fraction, const cv::Scalar& bgr) {
+  Candidate c;
+  c.colour_index = 2;
+  c.roi = cv::Rect(centre.x - radius, centre.y - radius, 2 * radius + 1, 2 * radius + 1);
+  c.mask = cv::Mat::zeros(c.roi.size(), CV_8UC1);
+  cv::circle(c.mask, cv::Point(radius, radius), radius, 255, cv::FILLED);
+  c.area_px = cv::countNonZero(c.mask);
+  c.colour_fraction = fraction;
+  c.mean_bgr = bgr;
+  c.face_contrast = radius;
+  return c;
+}
+
+TEST(ObjectPieces, JoinedRegionIsTheUnionOfThePieces) {
+  // Two halves of one disc of radius 40 at (100, 100), split by a 4-px band.
+  Candidate whole = disc(cv::Point(100, 100), 40, 1, cv::Scalar());
+  Candidate top = whole, bottom = whole;
+  top.mask = whole.mask.clone();
+  bottom.mask = whole.mask.clone();
+  top.mask(cv::Rect(0, 39, whole.roi.width, whole.roi.height - 39)).setTo(0);
+  bottom.mask(cv::Rect(0, 0, whole.roi.width, 43)).setTo(0);
+  top.area_px = cv::countNonZero(top.mask);
+  bottom.area_px = cv::countNonZero(bottom.mask);
+  top.colour_fraction = 0.9;
+  bottom.colour_fraction = 0.7;
+  top.mean_bgr = cv::Scalar(0, 0, 200);
+  bottom.mean_bgr = cv::Scalar(0, 0, 100);
+  top.face_contrast = 3;
+  bottom.face_contrast = 30;
+  bottom.area_px = top.area_px + 1;  // the larger piece
+  const Candidate joined = joinedCandidate({&bottom, &top}, cv::Size(640, 480));
+  EXPECT_EQ(joined.colour_index, 2);
+  EXPECT_EQ(joined.roi, whole.roi);
+  EXPECT_EQ(cv::countNonZero(joined.mask), cv::countNonZero(top.mask) + cv::countNonZero(bottom.mask));
+  EXPECT_DOUBLE_EQ(joined.area_px, top.area_px + bottom.area_px);
+  EXPECT_DOUBLE_EQ(joined.colour_fraction, 0.9);  // the most confident piece's
+  EXPECT_DOUBLE_EQ(joined.face_contrast, 30);     // the largest piece's
+  const double w = bottom.area_px / joined.area_px;
+  EXPECT_NEAR(joined.mean_bgr[2], 100 * w + 200 * (1 - w), 1e-9);
+  // The contour is the larger half's (the union is not connected across the band): the top one, rows 0-38 of
+  // the disc against 43-80, in image pixels.
+  ASSERT_GE(joined.contour.size(), 3u);
+  EXPECT_EQ(cv::boundingRect(joined.contour), cv::Rect(whole.roi.x + 1, whole.roi.y, whole.roi.width - 2, 39));
+  // Pieces reaching past the frame are cut to it.
+  Candidate edge = disc(cv::Point(630, 470), 20, 0.8, cv::Scalar());
+  edge.roi &= cv::Rect(0, 0, 640, 480);
+  edge.mask = edge.mask(cv::Rect(0, 0, edge.roi.width, edge.roi.height)).clone();
+  const Candidate cut = joinedCandidate({&edge}, cv::Size(640, 480));
+  EXPECT_EQ(cut.roi, cv::Rect(610, 450, 30, 30));
+}
+
+}  // namespace
+}  // namespace underwater_stereo
