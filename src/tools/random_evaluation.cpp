@@ -255,7 +255,8 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
           << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
           << ", \"found\": " << (o.found ? "true" : "false");
       if (o.found) {
-        out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour) << ", \"shape\": " << quoted(shapeName(o.detected_shape))
+        out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour)
+            << ", \"shape\": " << quoted(shapeName(o.detected_shape))
             << ", \"range_m\": " << number(o.detected_range_m) << ", \"centre_m\": " << vec(o.detected_centre_m)
             << ", \"roi\": " << rect(o.detected_roi) << ", \"range_error\": " << number(o.range_error)
             << ", \"position_error\": " << number(o.position_error) << "}";

@@ -65,7 +65,7 @@ struct PairRecord {
 /// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the
 /// detection's box (at least 20 % of the smaller of box and object); the first detection of an object counts,
 /// others and those on no eligible object are false, those on designated objects that are not eligible (too
-/// small, too near or far) are neither.
+/// small, too near or far) are neither. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
 
