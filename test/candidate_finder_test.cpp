@@ -31,14 +31,14 @@ const ColourClass kRed{"red", 165, 8}, kOrange{"orange", 9, 16}, kYellow{"yellow
 }  // namespace
 
 TEST(CandidateFinder, ClassifiesOutlines) {
-  EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) { cv::circle(m, {200, 200}, 80, 255, cv::FILLED); })), "circle");
+  EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) { cv::circle(m, {200, 200}, 80, 255, cv::FILLED); })), OutlineKind::kCircle);
   EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) { cv::ellipse(m, {200, 200}, {120, 50}, 30, 0, 360, 255, cv::FILLED); })),
-            "ellipse");
+            OutlineKind::kEllipse);
   EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) {
               std::vector<cv::Point> t{{200, 40}, {360, 330}, {40, 330}};
               cv::fillConvexPoly(m, t, 255);
             })),
-            "triangle");
+            OutlineKind::kTriangle);
   EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) {
               cv::RotatedRect r({200, 200}, {240, 90}, 25);
               cv::Point2f pts[4];
@@ -46,7 +46,7 @@ TEST(CandidateFinder, ClassifiesOutlines) {
               std::vector<cv::Point> poly(pts, pts + 4);
               cv::fillConvexPoly(m, poly, 255);
             })),
-            "rectangle");
+            OutlineKind::kRectangle);
   EXPECT_EQ(classifyOutline(drawn([](cv::Mat& m) {
               std::vector<cv::Point> star;
               for (int i = 0; i < 10; ++i) {
@@ -55,7 +55,7 @@ TEST(CandidateFinder, ClassifiesOutlines) {
               }
               cv::fillPoly(m, std::vector<std::vector<cv::Point>>{star}, 255);
             })),
-            "polygon");
+            OutlineKind::kPolygon);
   EXPECT_THROW(classifyOutline({{0, 0}, {1, 1}}), std::invalid_argument);
 }
 
@@ -69,10 +69,10 @@ TEST(CandidateFinder, FindsColouredRegionsLargestFirstAndDropsSmallOnes) {
   const std::vector<Candidate> found = findCandidates(img, masksOf({red, green}), {kRed, kGreen}, CandidateConfig{});
   ASSERT_EQ(found.size(), 2U);
   EXPECT_EQ(found[0].colour_index, 1);
-  EXPECT_EQ(found[0].outline, "rectangle");
+  EXPECT_EQ(found[0].outline, OutlineKind::kRectangle);
   EXPECT_EQ(found[0].roi, cv::Rect(250, 100, 100, 60));
   EXPECT_EQ(found[1].colour_index, 0);
-  EXPECT_EQ(found[1].outline, "circle");
+  EXPECT_EQ(found[1].outline, OutlineKind::kCircle);
   EXPECT_NEAR(found[1].area_px, M_PI * 40 * 40, 0.03 * M_PI * 40 * 40);
   EXPECT_DOUBLE_EQ(found[1].colour_fraction, 1.0);
   EXPECT_NEAR(found[1].mean_bgr[2], 200, 1);
@@ -105,7 +105,7 @@ TEST(CandidateFinder, ShadedBallAcrossTwoNeighbourClassesIsOneObjectOfItsMajorit
   ASSERT_EQ(found.size(), 3U);
   EXPECT_EQ(found[0].colour_index, 2);  // yellow: the whole ball, orange third included
   EXPECT_EQ(found[0].roi, cv::Rect(40, 90, 121, 121));
-  EXPECT_EQ(found[0].outline, "circle");
+  EXPECT_EQ(found[0].outline, OutlineKind::kCircle);
   EXPECT_DOUBLE_EQ(found[0].colour_fraction, 1.0);
   EXPECT_EQ(found[1].colour_index, 0);  // red, whole
   EXPECT_EQ(found[1].roi.tl(), cv::Point(250, 100));

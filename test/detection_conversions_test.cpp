@@ -19,7 +19,7 @@ DetectionResult twoObjects() {
   DetectionResult r;
   Detection a;
   a.colour = "red";
-  a.shape = "sphere";
+  a.shape = ShapeKind::kSphere;
   a.size_m = Eigen::Vector3d::Constant(0.25);
   a.position_m = Eigen::Vector3d(-0.5, 0.1, 2.5);
   a.range_m = a.position_m.norm();
@@ -29,7 +29,7 @@ DetectionResult twoObjects() {
   Detection b = a;
   b.colour = "teal";  // not a common colour name: drawn in its measured colour
   b.measured_bgr = cv::Scalar(100, 80, 10);
-  b.shape = "cylinder";
+  b.shape = ShapeKind::kCylinder;
   b.position_m = Eigen::Vector3d(0.3, 0.0, 3.0);
   b.points.resize(5);
   r.objects = {a, b};
@@ -76,6 +76,34 @@ TEST(DetectionConversions, ObjectsMarkersCloudAndTransformsCarryEveryObject) {
   EXPECT_NEAR(markers.markers[3].color.b, 1.0F, 1e-6) << "measured colour, brightened";
   EXPECT_EQ(markers.markers[4].type, visualization_msgs::Marker::TEXT_VIEW_FACING);
   EXPECT_EQ(ros_glue::toCloud(r, h).width, 7U);
+}
+
+TEST(DetectionConversions, ShapesAndOutlinesBecomeTheMessageConstants) {
+  const std::vector<std::pair<ShapeKind, std::string>> shapes{
+      {ShapeKind::kSphere, DetectedObject::SHAPE_SPHERE}, {ShapeKind::kCylinder, DetectedObject::SHAPE_CYLINDER},
+      {ShapeKind::kBox, DetectedObject::SHAPE_BOX}, {ShapeKind::kPlane, DetectedObject::SHAPE_PLANE},
+      {ShapeKind::kUnknown, DetectedObject::SHAPE_UNKNOWN}};
+  const std::vector<std::pair<OutlineKind, std::string>> outlines{
+      {OutlineKind::kCircle, DetectedObject::OUTLINE_CIRCLE}, {OutlineKind::kEllipse, DetectedObject::OUTLINE_ELLIPSE},
+      {OutlineKind::kTriangle, DetectedObject::OUTLINE_TRIANGLE},
+      {OutlineKind::kRectangle, DetectedObject::OUTLINE_RECTANGLE},
+      {OutlineKind::kPolygon, DetectedObject::OUTLINE_POLYGON}};
+  DetectionResult r;
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    Detection d = twoObjects().objects[0];
+    d.shape = shapes[i].first;
+    d.outline = outlines[i].first;
+    r.objects.push_back(d);
+  }
+  const DetectedObjectArray msg = ros_glue::toObjectsMsg(r, std_msgs::Header());
+  const auto markers = ros_glue::toMarkers(r, std_msgs::Header());
+  ASSERT_EQ(msg.objects.size(), shapes.size());
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    EXPECT_EQ(msg.objects[i].shape, shapes[i].second);
+    EXPECT_EQ(msg.objects[i].outline, outlines[i].second);
+    const std::string label = markers.markers[2 + 2 * i].text;
+    EXPECT_EQ(label.rfind("red " + shapes[i].second + " ", 0), 0U) << label;
+  }
 }
 
 TEST(DetectionConversions, AnnotatedFrameKeepsTheSizeAndDrawsOnIt) {

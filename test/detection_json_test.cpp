@@ -10,8 +10,8 @@ using namespace underwater_stereo;
 TEST(DetectionJson, WritesTheMessageFieldNamesEscapesStringsAndNullsNonFiniteNumbers) {
   Detection d;
   d.colour = "red \"buoy\"";
-  d.shape = "sphere";
-  d.outline = "circle";
+  d.shape = ShapeKind::kSphere;
+  d.outline = OutlineKind::kCircle;
   d.measured_bgr = cv::Scalar(0, 51, 255);
   d.size_m = Eigen::Vector3d(0.25, 0.25, 0.25);
   d.position_m = Eigen::Vector3d(-0.5, 0.1, std::numeric_limits<double>::quiet_NaN());

@@ -163,7 +163,7 @@ TEST(DetectorGraph, PlaybackGivesTheDetectionsOfTheSameFramesLive) {
     ASSERT_EQ(found->objects.size(), expected.objects.size()) << "frame " << k;
     for (std::size_t i = 0; i < expected.objects.size(); ++i) {
       EXPECT_EQ(found->objects[i].colour, expected.objects[i].colour);
-      EXPECT_EQ(found->objects[i].shape, expected.objects[i].shape);
+      EXPECT_EQ(found->objects[i].shape, shapeName(expected.objects[i].shape));
       EXPECT_NEAR(found->objects[i].range, expected.objects[i].range_m, 1e-4) << "frame " << k;
       EXPECT_NEAR(found->objects[i].position.x, expected.objects[i].position_m.x(), 1e-4);
     }

@@ -108,7 +108,7 @@ TEST(Detector, TwoDimensionalModeNeedsNoCalibration) {
   const sim::RenderedPair pair = renderer.render(0.0, 0);
   const DetectionResult r = detector.detect2d(pair.left);
   ASSERT_EQ(r.objects.size(), 2U);
-  EXPECT_EQ(r.objects[0].shape, "unknown");
+  EXPECT_EQ(r.objects[0].shape, ShapeKind::kUnknown);
   EXPECT_THROW(detector.detect(pair.left, pair.right), std::invalid_argument);
 }
 

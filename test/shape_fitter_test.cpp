@@ -41,8 +41,8 @@ std::vector<Eigen::Vector3d> sphereOutline(const Eigen::Vector3d& c, double r) {
 TEST(ShapeFitter, SphereFromItsVisibleCapAndSilhouette) {
   std::mt19937 rng(kSeed);
   const Eigen::Vector3d c(0.3, -0.1, 2.5);
-  const auto fit = fitShape(visibleSphere(c, 0.15, 0.01, rng), sphereOutline(c, 0.15), {"circle"}, ShapeFitConfig{});
-  EXPECT_EQ(fit.shape, "sphere") << "seed " << kSeed;
+  const auto fit = fitShape(visibleSphere(c, 0.15, 0.01, rng), sphereOutline(c, 0.15), {OutlineKind::kCircle}, ShapeFitConfig{});
+  EXPECT_EQ(fit.shape, ShapeKind::kSphere) << "seed " << kSeed;
   EXPECT_LT((fit.centre - c).norm(), 0.01);
   EXPECT_NEAR(fit.size.x(), 0.30, 0.01);
   EXPECT_LT(fit.rmse_m, 0.011);  // noise along the ray, seen across the surface
@@ -66,8 +66,8 @@ TEST(ShapeFitter, TiltedPanelIsAPlaneWithItsOutlineSize) {
       rays.push_back((c + rot * local).normalized());
     }
   }
-  const auto fit = fitShape(pts, rays, {"rectangle"}, ShapeFitConfig{});
-  ASSERT_EQ(fit.shape, "plane") << "seed " << kSeed;
+  const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, ShapeFitConfig{});
+  ASSERT_EQ(fit.shape, ShapeKind::kPlane) << "seed " << kSeed;
   EXPECT_LT((fit.centre - c).norm(), 0.02);
   EXPECT_NEAR(std::max(fit.size.x(), fit.size.y()), 0.5, 0.015);
   EXPECT_NEAR(std::min(fit.size.x(), fit.size.y()), 0.4, 0.015);
@@ -93,8 +93,8 @@ TEST(ShapeFitter, TubeIsACylinderAlongItsAxis) {
     rays.push_back((c + Eigen::Vector3d(x, -r, 0)).normalized());
     rays.push_back((c + Eigen::Vector3d(x, r, 0)).normalized());
   }
-  const auto fit = fitShape(pts, rays, {"rectangle"}, ShapeFitConfig{});
-  ASSERT_EQ(fit.shape, "cylinder") << "seed " << kSeed;
+  const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, ShapeFitConfig{});
+  ASSERT_EQ(fit.shape, ShapeKind::kCylinder) << "seed " << kSeed;
   EXPECT_NEAR(fit.size.z(), 0.8, 0.03);
   EXPECT_NEAR(fit.size.x(), 0.1, 0.01);
   EXPECT_LT((fit.centre - c).norm(), 0.02);
@@ -117,9 +117,9 @@ TEST(ShapeFitter, FlatFacesOfDifferentShadingMakeABoxAlongThePointsAxes) {
     pts.push_back((c + r * local + Eigen::Vector3d(n(rng), n(rng), n(rng))).cast<float>());
   }
   const auto rays = sphereOutline(c, 0.25);
-  EXPECT_NE(fitShape(pts, rays, {"ellipse", 5.0}, ShapeFitConfig{}).shape, "box") << "smooth shading";
-  const auto fit = fitShape(pts, rays, {"ellipse", 75.0}, ShapeFitConfig{});
-  ASSERT_EQ(fit.shape, "box");
+  EXPECT_NE(fitShape(pts, rays, {OutlineKind::kEllipse, 5.0}, ShapeFitConfig{}).shape, ShapeKind::kBox) << "smooth shading";
+  const auto fit = fitShape(pts, rays, {OutlineKind::kEllipse, 75.0}, ShapeFitConfig{});
+  ASSERT_EQ(fit.shape, ShapeKind::kBox);
   std::vector<double> size{fit.size.x(), fit.size.y(), fit.size.z()};
   std::sort(size.begin(), size.end());
   EXPECT_NEAR(size[2], 0.4, 0.03);
@@ -131,11 +131,11 @@ TEST(ShapeFitter, FlatFacesOfDifferentShadingMakeABoxAlongThePointsAxes) {
 
 TEST(ShapeFitter, TooFewPointsIsUnknownWithTheirCentroid) {
   const std::vector<Eigen::Vector3f> pts{{0, 0, 2}, {0.1F, 0, 2}, {0, 0.1F, 2}};
-  const auto fit = fitShape(pts, sphereOutline({0, 0, 2}, 0.1), {"circle"}, ShapeFitConfig{});
-  EXPECT_EQ(fit.shape, "unknown");
+  const auto fit = fitShape(pts, sphereOutline({0, 0, 2}, 0.1), {OutlineKind::kCircle}, ShapeFitConfig{});
+  EXPECT_EQ(fit.shape, ShapeKind::kUnknown);
   EXPECT_NEAR(fit.centre.z(), 2.0, 1e-6);
   EXPECT_NEAR(fit.size.x(), 0.1, 1e-6);
-  EXPECT_EQ(fitShape({}, {}, {"circle"}, ShapeFitConfig{}).shape, "unknown");
+  EXPECT_EQ(fitShape({}, {}, {OutlineKind::kCircle}, ShapeFitConfig{}).shape, ShapeKind::kUnknown);
 }
 
 TEST(ShapeFitter, InvalidConfigIsReported) {

@@ -64,7 +64,7 @@ class Scenario {
       if (hidden) continue;
       Observation o;
       o.colour = objects[i].colour;
-      o.shape = "sphere";
+      o.shape = ShapeKind::kSphere;
       o.size_m = Eigen::Vector3d::Constant(0.25);
       const Eigen::LLT<Eigen::Matrix3d> llt(tracker.measurementCovariance(in_camera[i]));
       Eigen::Vector3d noise(gauss(rng), gauss(rng), gauss(rng));
@@ -239,22 +239,22 @@ TEST(Tracker, TentativeTracksOfOneGlimpseAreDropped) {
 
 TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
   TrackingConfig config;
-  config.targets = {{"red_buoy", "red", "sphere", 0.25, 0.3}};
+  config.targets = {{"red_buoy", "red", ShapeKind::kSphere, 0.25, 0.3}};
   config.confirm_hits = 1;  // a confirmed track survives the pairs without it
   Tracker tracker(config);
   TrackingFrame f;
   Observation red;
   red.colour = "red";
-  red.shape = "sphere";
+  red.shape = ShapeKind::kSphere;
   red.target = 0;
   red.position_m = {0, 0, 2};
   f.observations = {red};
   const std::uint32_t id = tracker.update(f).track_ids[0];
   Observation orange = red, box = red, untargeted = red, unknown = red;
   orange.colour = "orange";
-  box.shape = "box";
+  box.shape = ShapeKind::kBox;
   untargeted.target = -1;
-  unknown.shape = "unknown";
+  unknown.shape = ShapeKind::kUnknown;
   for (const Observation& o : {orange, box, untargeted}) {
     f.stamp_s += 0.1;
     f.observations = {o};
@@ -264,7 +264,7 @@ TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
   f.observations = {unknown};
   EXPECT_EQ(tracker.update(f).track_ids[0], id) << "an unknown shape fits any";
   EXPECT_EQ(tracker.find(id)->label, "red_buoy");
-  EXPECT_EQ(tracker.find(id)->shape, "sphere");
+  EXPECT_EQ(tracker.find(id)->shape, ShapeKind::kSphere);
 }
 
 TEST(Tracker, NanDetectionIsReportedAndNotTracked) {
@@ -342,7 +342,7 @@ TEST(Tracker, CameraTeleportResetsTracks) {
 
 TEST(Tracker, FindConfirmedTakesTheLatestOfALabel) {
   TrackingConfig config;
-  config.targets = {{"buoy", "red", "", 0.25, 0.3}};
+  config.targets = {{"buoy", "red", ShapeKind::kUnknown, 0.25, 0.3}};
   config.confirm_hits = 1;
   Tracker tracker(config);
   TrackingFrame f;

@@ -36,9 +36,13 @@ TEST(TrackingConfig, ParsesTargetsAndSettings) {
       "targets: [{name: a, colour: red, shape: sphere, size_m: 0.25, size_tolerance: 0.2}, {name: b, colour: green, "
       "size_m: 1}]\ntargets_only: true\ntracking: {confirm_hits: 5, max_misses: 7, gate_chi2: 9}"));
   ASSERT_EQ(c.targets.size(), 2U);
-  EXPECT_EQ(c.targets[0].shape, "sphere");
+  EXPECT_EQ(c.targets[0].shape, ShapeKind::kSphere);
   EXPECT_DOUBLE_EQ(c.targets[0].size_tolerance, 0.2);
-  EXPECT_EQ(c.targets[1].shape, "");
+  EXPECT_EQ(c.targets[1].shape, ShapeKind::kUnknown) << "no shape: any";
+  for (const char* any : {"\"\"", "unknown"}) {
+    const std::string yaml = std::string("targets: [{name: a, colour: red, size_m: 1, shape: ") + any + "}]";
+    EXPECT_EQ(parseTrackingConfig(YAML::Load(yaml)).targets[0].shape, ShapeKind::kUnknown) << any;
+  }
   EXPECT_TRUE(c.targets_only);
   EXPECT_EQ(c.confirm_hits, 5);
   EXPECT_EQ(c.max_misses, 7);
@@ -49,7 +53,8 @@ TEST(TrackingConfig, ListsEveryProblem) {
   const std::string p = problemsOf(
       "targets: [{name: a, colour: red, shape: cone, size_m: -1, size_tolerance: 2}, {name: a, size_m: x}]\n"
       "tracking: {confirm_hits: 0, gate_chi2: -1, max_misses: 0, bogus: 1}\nextra: 1");
-  for (const char* expected : {"targets[0].shape", "targets[0].size_m", "targets[0].size_tolerance",
+  for (const char* expected : {"targets[0].shape: 'cone' is not one of sphere, cylinder, box, plane, unknown",
+                               "targets[0].size_m", "targets[0].size_tolerance",
                                "targets[1].colour: missing", "targets[1].size_m: expected a number",
                                "targets[1].name: 'a' used twice", "tracking.confirm_hits", "tracking.gate_chi2",
                                "tracking.max_misses", "tracking.bogus: unknown key", "extra: unknown key"}) {
@@ -62,22 +67,22 @@ TEST(TrackingConfig, ListsEveryProblem) {
 
 TEST(TargetMatcher, LabelsBySizeColourAndShape) {
   TrackingConfig c;
-  c.targets = {{"small", "red", "sphere", 0.2, 0.2}, {"large", "red", "sphere", 0.5, 0.2},
-               {"tube", "orange", "", 0.9, 0.3}};
+  c.targets = {{"small", "red", ShapeKind::kSphere, 0.2, 0.2}, {"large", "red", ShapeKind::kSphere, 0.5, 0.2},
+               {"tube", "orange", ShapeKind::kUnknown, 0.9, 0.3}};
   const TargetMatcher m(c);
-  EXPECT_EQ(m.match("red", "sphere", Eigen::Vector3d::Constant(0.21)).target, 0);
-  EXPECT_EQ(m.match("red", "unknown", Eigen::Vector3d::Constant(0.45)).target, 1);
-  const TargetMatch wrong = m.match("red", "sphere", Eigen::Vector3d::Constant(0.33));
+  EXPECT_EQ(m.match("red", ShapeKind::kSphere, Eigen::Vector3d::Constant(0.21)).target, 0);
+  EXPECT_EQ(m.match("red", ShapeKind::kUnknown, Eigen::Vector3d::Constant(0.45)).target, 1);
+  const TargetMatch wrong = m.match("red", ShapeKind::kSphere, Eigen::Vector3d::Constant(0.33));
   EXPECT_EQ(wrong.fit, TargetFit::kWrongSize);
   EXPECT_FALSE(m.keep(wrong));
-  const TargetMatch box = m.match("red", "box", Eigen::Vector3d::Constant(0.2));
+  const TargetMatch box = m.match("red", ShapeKind::kBox, Eigen::Vector3d::Constant(0.2));
   EXPECT_EQ(box.fit, TargetFit::kNoTarget);
   EXPECT_TRUE(m.keep(box));
-  EXPECT_EQ(m.match("orange", "cylinder", {0.1, 0.1, 0.85}).target, 2);  // the largest extent counts
-  EXPECT_EQ(m.match("red", "sphere", Eigen::Vector3d::Constant(std::nan(""))).fit, TargetFit::kWrongSize);
+  EXPECT_EQ(m.match("orange", ShapeKind::kCylinder, {0.1, 0.1, 0.85}).target, 2);  // the largest extent counts
+  EXPECT_EQ(m.match("red", ShapeKind::kSphere, Eigen::Vector3d::Constant(std::nan(""))).fit, TargetFit::kWrongSize);
   c.targets_only = true;
   EXPECT_FALSE(TargetMatcher(c).keep(box));
-  EXPECT_TRUE(TargetMatcher(c).keep(m.match("red", "sphere", Eigen::Vector3d::Constant(0.2))));
+  EXPECT_TRUE(TargetMatcher(c).keep(m.match("red", ShapeKind::kSphere, Eigen::Vector3d::Constant(0.2))));
   c.targets_only = false;
   c.reject_wrong_size = false;
   EXPECT_TRUE(TargetMatcher(c).keep(wrong));

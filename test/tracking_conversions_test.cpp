@@ -9,13 +9,13 @@ namespace {
 
 Tracker trackerWithOneLandmark() {
   TrackingConfig config;
-  config.targets = {{"red_buoy", "red", "sphere", 0.25, 0.3}};
+  config.targets = {{"red_buoy", "red", ShapeKind::kSphere, 0.25, 0.3}};
   config.confirm_hits = 2;
   Tracker tracker(config);
   TrackingFrame f;
   Observation o;
   o.colour = "red";
-  o.shape = "sphere";
+  o.shape = ShapeKind::kSphere;
   o.size_m = Eigen::Vector3d::Constant(0.25);
   o.target = 0;
   o.position_m = {0.5, 0.0, 2.0};

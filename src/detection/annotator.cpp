@@ -38,8 +38,8 @@ cv::Mat annotate(const cv::Mat& left_bgr, const DetectionResult& result) {
     const cv::Scalar highlight(255, 255, 0);
     if (d.contour.size() >= 3) cv::polylines(out, std::vector<std::vector<cv::Point>>{d.contour}, true, highlight, thickness);
     cv::rectangle(out, d.roi, cv::Scalar(0, 255, 255), thickness);
-    std::snprintf(text, sizeof text, "%s %s %.2f m  r %.2f m", d.colour.c_str(), d.shape.c_str(), d.size_m.maxCoeff(),
-                  d.range_m);
+    std::snprintf(text, sizeof text, "%s %s %.2f m  r %.2f m", d.colour.c_str(), shapeName(d.shape),
+                  d.size_m.maxCoeff(), d.range_m);
     label(out, text, d.roi.tl() + cv::Point(0, -6), scale, highlight);
     std::snprintf(text, sizeof text, "xyz %.2f %.2f %.2f", d.position_m.x(), d.position_m.y(), d.position_m.z());
     label(out, text, cv::Point(d.roi.x, d.roi.br().y + static_cast<int>(24 * scale)), scale, highlight);

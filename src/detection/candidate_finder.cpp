@@ -181,27 +181,27 @@ std::vector<std::string> CandidateConfig::validate() const {
   return p;
 }
 
-std::string classifyOutline(const std::vector<cv::Point>& contour) {
+OutlineKind classifyOutline(const std::vector<cv::Point>& contour) {
   if (contour.size() < 3) throw std::invalid_argument("classifyOutline: a contour needs at least 3 points");
   const double perimeter = cv::arcLength(contour, true);
   const double area = cv::contourArea(contour);
   std::vector<cv::Point> poly;
   cv::approxPolyDP(contour, poly, 0.03 * perimeter, true);
-  if (poly.size() == 3) return "triangle";
+  if (poly.size() == 3) return OutlineKind::kTriangle;
   if (poly.size() == 4 && cv::isContourConvex(poly)) {
     // Rectangle when the quadrilateral fills its minimum-area rectangle.
     const cv::RotatedRect box = cv::minAreaRect(contour);
-    if (area > 0.85 * box.size.area()) return "rectangle";
+    if (area > 0.85 * box.size.area()) return OutlineKind::kRectangle;
   }
   if (contour.size() >= 5 && area > 0) {
     const cv::RotatedRect e = cv::fitEllipse(contour);
     const double ellipse_area = M_PI * e.size.width * e.size.height / 4.0;
     if (std::abs(ellipse_area - area) < 0.06 * area) {
       const double ratio = std::min(e.size.width, e.size.height) / std::max(e.size.width, e.size.height);
-      return ratio > 0.88 ? "circle" : "ellipse";
+      return ratio > 0.88 ? OutlineKind::kCircle : OutlineKind::kEllipse;
     }
   }
-  return "polygon";
+  return OutlineKind::kPolygon;
 }
 
 bool hueNeighbours(const ColourClass& a, const ColourClass& b) {

@@ -57,11 +57,12 @@ std::string detectionJson(const std::string& file, int id, const Detection& d, c
   out << "{\"file\": " << quoted(file) << ", \"id\": " << id << ", \"colour\": " << quoted(d.colour)
       << ", \"measured_colour\": "
       << array({d.measured_bgr[2] / 255.0, d.measured_bgr[1] / 255.0, d.measured_bgr[0] / 255.0})
-      << ", \"outline\": " << quoted(d.outline)
+      << ", \"outline\": " << quoted(outlineName(d.outline))
       << ", \"roi\": " << array({double(d.roi.x), double(d.roi.y), double(d.roi.width), double(d.roi.height)})
       << ", \"confidence\": " << number(d.confidence);
   if (with_3d) {
-    out << ", \"shape\": " << quoted(d.shape) << ", \"size\": " << array({d.size_m.x(), d.size_m.y(), d.size_m.z()})
+    out << ", \"shape\": " << quoted(shapeName(d.shape))
+        << ", \"size\": " << array({d.size_m.x(), d.size_m.y(), d.size_m.z()})
         << ", \"range\": " << number(d.range_m)
         << ", \"position\": " << array({d.position_m.x(), d.position_m.y(), d.position_m.z()})
         << ", \"orientation\": "

@@ -229,16 +229,16 @@ Detection describe2d(const Candidate& c, const RawFrame& left, const DetectorCon
 /// size stays: centre and size scale together). Stereo surfaces are smoothed towards the object's rim, the
 /// silhouette is not.
 void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration) {
-  if (!std::isfinite(disparity) || disparity <= 0 || fit.shape == "unknown") return;
+  if (!std::isfinite(disparity) || disparity <= 0 || fit.shape == ShapeKind::kUnknown) return;
   const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(calibration.left.R.val);
   const double z_rectified = (r * fit.centre).z();
   if (z_rectified <= 0) return;
   double z_target = calibration.focalPx() * calibration.baselineM() / disparity;
-  if (fit.shape == "sphere") {
+  if (fit.shape == ShapeKind::kSphere) {
     // A sphere's outline is its tangent circle, R^2 / d in front of its centre (d: centre distance).
     const double radius = fit.size.x() / 2 * z_target / z_rectified, d = fit.centre.norm() * z_target / z_rectified;
     z_target *= 1 / (1 - radius * radius / (d * d));
-  } else if (fit.shape == "cylinder") {
+  } else if (fit.shape == ShapeKind::kCylinder) {
     // The silhouette's horizontal shift comes from its left and right ends. Along a tube lying across the
     // image those are the end rims nearest the camera (perspective pushes them furthest out), a radius in
     // front of the axis; across a tube standing upright they are its tangent lines, level with the axis.

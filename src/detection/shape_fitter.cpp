@@ -126,7 +126,7 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
   Eigen::Vector3d n = p.axes.col(2);
   if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
   if (-n.dot(p.mean.normalized()) < kMinIncidence) return scored;  // seen nearly edge-on
-  fit.shape = "plane";
+  fit.shape = ShapeKind::kPlane;
   std::vector<double> residuals;
   for (const auto& q : pts) residuals.push_back(n.dot(q - p.mean));
   fit.rmse_m = rms(residuals);
@@ -147,7 +147,7 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
 Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  fit.shape = "sphere";
+  fit.shape = ShapeKind::kSphere;
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   for (const auto& r : rays) axis += r;
   axis.normalize();
@@ -211,7 +211,7 @@ Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const 
   // First pass: radius from the outline on the plane through the visible surface.
   std::vector<Eigen::Vector3d> outline = onPlane(rays, view, view.dot(p.mean));
   if (outline.size() < 3) return scored;
-  fit.shape = "cylinder";
+  fit.shape = ShapeKind::kCylinder;
   auto [w0, w1] = span(outline, across);
   double radius = (w1 - w0) / 2;
   // Second pass: the axis plane lies ~ radius * pi/4 behind the mean of the visible half-surface.
@@ -271,7 +271,7 @@ Scored fitBox(const std::vector<Eigen::Vector3d>& pts, const Pca& p) {
   axes.col(0) = std::cos(angle) * e1 + std::sin(angle) * e2;
   axes.col(1) = axes.col(2).cross(axes.col(0));
   ShapeFit& fit = scored.fit;
-  fit.shape = "box";
+  fit.shape = ShapeKind::kBox;
   fit.centre = Eigen::Vector3d::Zero();
   for (int a = 0; a < 3; ++a) {
     std::vector<double> along;
@@ -332,17 +332,17 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   const Scored plane = fitPlane(pts, p, outline_rays);
   const Scored curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
                                                                                  : fitSphere(pts, outline_rays);
-  const bool curved_ok = curved.fit.shape != "unknown" && curved.fit.centre.allFinite();
+  const bool curved_ok = curved.fit.shape != ShapeKind::kUnknown && curved.fit.centre.allFinite();
   // Stereo smoothing flattens smooth curved surfaces, so the 2D outline decides close calls: a round
   // outline is a sphere unless the plane is clearly better, anything else a plane unless the curve is.
   // Flat faces of clearly different shading: a box, whatever its outline (a box seen corner-on is a
   // hexagon, close to an ellipse).
   if (cues.face_contrast >= config.box_face_contrast) return fitBox(pts, p).fit;
-  const bool round = cues.outline == "circle" || cues.outline == "ellipse";
+  const bool round = cues.outline == OutlineKind::kCircle || cues.outline == OutlineKind::kEllipse;
   const bool curved_wins = round ? curved.structure_m < plane.structure_m * config.plane_preference
                                  : curved.structure_m * config.plane_preference < plane.structure_m;
   if (curved_ok && curved_wins) return curved.fit;
-  if (plane.fit.shape != "unknown") return plane.fit;
+  if (plane.fit.shape != ShapeKind::kUnknown) return plane.fit;
   return curved_ok ? curved.fit : unknown;
 }
 

@@ -69,8 +69,8 @@ DetectedObjectArray toObjectsMsg(const DetectionResult& result, const std_msgs::
     o.measured_colour.g = static_cast<float>(d.measured_bgr[1] / 255.0);
     o.measured_colour.b = static_cast<float>(d.measured_bgr[0] / 255.0);
     o.measured_colour.a = 1.0F;
-    o.shape = d.shape;
-    o.outline = d.outline;
+    o.shape = shapeName(d.shape);
+    o.outline = outlineName(d.outline);
     o.size.x = d.size_m.x();
     o.size.y = d.size_m.y();
     o.size.z = d.size_m.z();
@@ -112,12 +112,18 @@ visualization_msgs::MarkerArray toMarkers(const DetectionResult& result, const s
     shape.scale.y = std::max(0.01, d.size_m.y());
     shape.scale.z = std::max(0.01, d.size_m.z());
     shape.color = displayColour(d.colour, d.measured_bgr);
-    if (d.shape == "sphere") {
-      shape.type = visualization_msgs::Marker::SPHERE;
-    } else if (d.shape == "cylinder") {
-      shape.type = visualization_msgs::Marker::CYLINDER;
-    } else {
-      shape.type = visualization_msgs::Marker::CUBE;  // box, plane (thin), unknown (extents)
+    switch (d.shape) {
+      case ShapeKind::kSphere:
+        shape.type = visualization_msgs::Marker::SPHERE;
+        break;
+      case ShapeKind::kCylinder:
+        shape.type = visualization_msgs::Marker::CYLINDER;
+        break;
+      case ShapeKind::kBox:
+      case ShapeKind::kPlane:    // thin
+      case ShapeKind::kUnknown:  // the points' extents
+        shape.type = visualization_msgs::Marker::CUBE;
+        break;
     }
     out.markers.push_back(shape);
     visualization_msgs::Marker text = shape;
@@ -129,7 +135,7 @@ visualization_msgs::MarkerArray toMarkers(const DetectionResult& result, const s
     text.scale.z = 0.08;
     text.color.r = text.color.g = text.color.b = text.color.a = 1.0F;
     char buf[96];
-    std::snprintf(buf, sizeof buf, "%s %s %.2f m @ %.2f m", d.colour.c_str(), d.shape.c_str(), d.size_m.maxCoeff(),
+    std::snprintf(buf, sizeof buf, "%s %s %.2f m @ %.2f m", d.colour.c_str(), shapeName(d.shape), d.size_m.maxCoeff(),
                   d.range_m);
     text.text = buf;
     out.markers.push_back(text);

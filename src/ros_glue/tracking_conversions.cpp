@@ -41,7 +41,7 @@ DetectedObjectArray toLandmarksMsg(const std::vector<Track>& tracks, const std_m
     DetectedObject o;
     o.id = static_cast<std::uint32_t>(msg.objects.size());
     o.colour = t.colour;
-    o.shape = t.shape;
+    o.shape = shapeName(t.shape);
     o.size.x = t.size_m.x();
     o.size.y = t.size_m.y();
     o.size.z = t.size_m.z();

@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
     for (int i = 0; i < objects; ++i) {
       Observation o;
       o.colour = colours[i % 4];
-      o.shape = "sphere";
+      o.shape = ShapeKind::kSphere;
       o.size_m = Eigen::Vector3d::Constant(0.25);
       o.position_m = f.camera_pose.inverse() * truth[static_cast<std::size_t>(i)] +
                      Eigen::Vector3d(noise(rng), noise(rng), noise(rng));

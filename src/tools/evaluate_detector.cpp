@@ -49,10 +49,11 @@ struct Stats {
   std::vector<double> ms;
 };
 
-double sizeError(const sim::GroundTruthObject& gt, const Detection& d) {
+/// Relative size error of `d` against the truth `gt` of shape `shape`.
+double sizeError(const sim::GroundTruthObject& gt, ShapeKind shape, const Detection& d) {
   auto rel = [](double a, double b) { return std::abs(a - b) / b; };
-  if (gt.shape == "sphere") return rel(d.size_m.x(), gt.size_m.x());
-  if (gt.shape == "cylinder") return std::max(rel(d.size_m.x(), gt.size_m.x()), rel(d.size_m.z(), gt.size_m.z()));
+  if (shape == ShapeKind::kSphere) return rel(d.size_m.x(), gt.size_m.x());
+  if (shape == ShapeKind::kCylinder) return std::max(rel(d.size_m.x(), gt.size_m.x()), rel(d.size_m.z(), gt.size_m.z()));
   std::vector<double> a{d.size_m.x(), d.size_m.y(), d.size_m.z()}, b{gt.size_m.x(), gt.size_m.y(), gt.size_m.z()};
   std::sort(a.rbegin(), a.rend());
   std::sort(b.rbegin(), b.rend());
@@ -71,6 +72,7 @@ void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, cons
   s.ms.push_back(r.timings.total_ms);
   std::vector<bool> used(r.objects.size(), false);
   for (const auto& gt : truth) {
+    const ShapeKind shape = shapeFromName(gt.shape, "ground truth of " + gt.name + ": shape");
     const bool is_designated = std::find(designated.begin(), designated.end(), gt.colour) != designated.end();
     const bool eligible = is_designated && gt.visible_pixels >= 400 && gt.range_m >= 0.5 && gt.range_m <= 5.0;
     // The detection of this object: same colour, its ROI centre inside the object's ROI.
@@ -101,10 +103,10 @@ void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, cons
     const Detection& d = r.objects[match];
     s.range_err.push_back(std::abs(d.range_m - gt.range_m) / gt.range_m);
     s.position_err.push_back((d.position_m - gt.centre_left_m).norm() / gt.range_m);
-    if (gt.range_m <= 3.0) s.size_err_near.push_back(sizeError(gt, d));
+    if (gt.range_m <= 3.0) s.size_err_near.push_back(sizeError(gt, shape, d));
     if (gt.visible_pixels >= 1500) {
       ++s.shape_eligible;
-      s.shape_correct += d.shape == gt.shape;
+      s.shape_correct += d.shape == shape;
     }
   }
   for (std::size_t i = 0; i < used.size(); ++i) {

@@ -158,7 +158,7 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
     ObjectRecord o;
     o.name = gt.name;
     o.colour = gt.colour;
-    o.shape = gt.shape;
+    o.shape = shapeFromName(gt.shape, "ground truth of " + gt.name + ": shape");
     o.designated = i < sampled.designated.size() && sampled.designated[i];
     o.range_m = gt.range_m;
     o.visible_pixels = gt.visible_pixels;
@@ -218,7 +218,7 @@ void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
     return std::string(label.size() < 7 ? 7 - label.size() : 0, ' ') + label;  // sorts numerically
   });
   printObjectGroup(out, "colour", pairs, [](const ObjectRecord& o) { return o.colour; });
-  printObjectGroup(out, "shape", pairs, [](const ObjectRecord& o) { return o.shape; });
+  printObjectGroup(out, "shape", pairs, [](const ObjectRecord& o) { return shapeName(o.shape); });
   printObjectGroup(out, "cut by border", pairs, [](const ObjectRecord& o) { return o.cut_by_border ? "yes" : "no"; });
   out << "\nRecall: eligible objects with a detection on them (any colour); colour and shape right: of those found.\n";
   std::map<std::string, int> falses;
@@ -248,14 +248,15 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
     for (std::size_t k = 0; k < p.objects.size(); ++k) {
       const ObjectRecord& o = p.objects[k];
       out << (k ? ",\n    " : "\n    ") << "{\"name\": " << quoted(o.name) << ", \"colour\": " << quoted(o.colour)
-          << ", \"shape\": " << quoted(o.shape) << ", \"designated\": " << (o.designated ? "true" : "false")
+          << ", \"shape\": " << quoted(shapeName(o.shape)) << ", \"designated\": " << (o.designated ? "true" : "false")
           << ", \"eligible\": " << (o.eligible ? "true" : "false") << ", \"range_m\": " << number(o.range_m)
           << ", \"visible_pixels\": " << o.visible_pixels << ", \"cut_by_border\": " << (o.cut_by_border ? "true" : "false")
           << ", \"roi\": " << rect(o.roi) << ", \"albedo\": " << vec(o.albedo) << ", \"size_m\": " << vec(o.size_m)
           << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
           << ", \"found\": " << (o.found ? "true" : "false");
       if (o.found) {
-        out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour) << ", \"shape\": " << quoted(o.detected_shape)
+        out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour)
+            << ", \"shape\": " << quoted(shapeName(o.detected_shape))
             << ", \"range_m\": " << number(o.detected_range_m) << ", \"centre_m\": " << vec(o.detected_centre_m)
             << ", \"roi\": " << rect(o.detected_roi) << ", \"range_error\": " << number(o.range_error)
             << ", \"position_error\": " << number(o.position_error) << "}";
@@ -265,7 +266,7 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
     out << "],\n   \"false_detections\": [";
     for (std::size_t k = 0; k < p.false_detections.size(); ++k) {
       const FalseRecord& f = p.false_detections[k];
-      out << (k ? ", " : "") << "{\"colour\": " << quoted(f.colour) << ", \"shape\": " << quoted(f.shape)
+      out << (k ? ", " : "") << "{\"colour\": " << quoted(f.colour) << ", \"shape\": " << quoted(shapeName(f.shape))
           << ", \"on\": " << quoted(f.on) << ", \"roi\": " << rect(f.roi) << ", \"range_m\": " << number(f.range_m) << "}";
     }
     out << "]}";
@@ -297,7 +298,7 @@ cv::Mat failurePicture(const cv::Mat& left_bgr, const PairRecord& pair, const Ob
   const int thick = std::max(2, out.cols / 640);
   for (const Detection& d : result.objects) {
     cv::rectangle(out, d.roi, cv::Scalar(0, 0, 255), thick);
-    cv::putText(out, d.colour + " " + d.shape, d.roi.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX,
+    cv::putText(out, d.colour + " " + shapeName(d.shape), d.roi.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX,
                 0.4 * thick, cv::Scalar(0, 0, 255), thick);
   }
   cv::rectangle(out, object.roi, cv::Scalar(0, 255, 0), thick);

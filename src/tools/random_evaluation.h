@@ -23,7 +23,8 @@ constexpr double kMinRangeM = 0.5, kMaxRangeM = 5.0;
 
 /// One truth object of one pair and what the detector made of it.
 struct ObjectRecord {
-  std::string name, colour, shape;
+  std::string name, colour;
+  ShapeKind shape = ShapeKind::kUnknown;
   bool designated = false, eligible = false;
   double range_m = 0.0;
   int visible_pixels = 0;
@@ -33,7 +34,8 @@ struct ObjectRecord {
                   centre_m = Eigen::Vector3d::Zero();
   double transmission = 0.0;        ///< mean over r, g, b of exp(-attenuation * range): how much water hides it
   bool found = false;
-  std::string detected_colour, detected_shape;
+  std::string detected_colour;
+  ShapeKind detected_shape = ShapeKind::kUnknown;
   double detected_range_m = 0.0;
   Eigen::Vector3d detected_centre_m = Eigen::Vector3d::Zero();
   cv::Rect detected_roi;
@@ -43,7 +45,9 @@ struct ObjectRecord {
 
 /// A detection that is no eligible designated object (background, a distractor, a second detection of one object).
 struct FalseRecord {
-  std::string colour, shape, on;  ///< on: the truth object it lies on, "" for background
+  std::string colour;
+  ShapeKind shape = ShapeKind::kUnknown;
+  std::string on;  ///< the truth object it lies on, "" for background
   cv::Rect roi;
   double range_m = 0.0;
 };
@@ -61,7 +65,7 @@ struct PairRecord {
 /// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the
 /// detection's box (at least 20 % of the smaller of box and object); the first detection of an object counts,
 /// others and those on no eligible object are false, those on designated objects that are not eligible (too
-/// small, too near or far) are neither.
+/// small, too near or far) are neither. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
 

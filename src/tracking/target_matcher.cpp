@@ -14,15 +14,13 @@ TargetMatcher::TargetMatcher(const TrackingConfig& config) : config_(config) {
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid tracking configuration", problems));
 }
 
-TargetMatch TargetMatcher::match(const std::string& colour, const std::string& shape,
-                                 const Eigen::Vector3d& size_m) const {
+TargetMatch TargetMatcher::match(const std::string& colour, ShapeKind shape, const Eigen::Vector3d& size_m) const {
   TargetMatch out;
   const double size = size_m.allFinite() ? size_m.maxCoeff() : std::numeric_limits<double>::quiet_NaN();
   double best_error = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < config_.targets.size(); ++i) {
     const Target& t = config_.targets[i];
-    if (t.colour != colour) continue;
-    if (!t.shape.empty() && shape != "unknown" && shape != t.shape) continue;
+    if (t.colour != colour || !shapesAgree(t.shape, shape)) continue;
     out.fit = TargetFit::kWrongSize;  // its colour and shape: from here on only the size can make it fit
     const double error = std::abs(size - t.size_m) / t.size_m;
     if (error <= t.size_tolerance && error < best_error) {

@@ -77,7 +77,7 @@ Eigen::Matrix3d Tracker::measurementCovariance(const Eigen::Vector3d& p) const {
 
 bool Tracker::compatible(const Track& t, const Observation& o) const {
   if (t.colour != o.colour || t.target != o.target) return false;
-  return !config_.match_shape || t.shape == o.shape || t.shape == "unknown" || o.shape == "unknown";
+  return !config_.match_shape || shapesAgree(t.shape, o.shape);
 }
 
 FrameOutcome Tracker::checkFrame(const TrackingFrame& frame, TrackingUpdate& out) {
@@ -212,7 +212,7 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     t.filter.update(z[c.observation], r[c.observation]);
     ++t.observations;
     t.size_m += (o.size_m - t.size_m) / t.observations;
-    if (o.shape != "unknown") t.shape = o.shape;
+    if (o.shape != ShapeKind::kUnknown) t.shape = o.shape;
     t.misses = 0;
     t.in_view = true;
     t.hidden = false;

@@ -31,9 +31,6 @@ std::vector<std::string> TrackingConfig::validate() const {
     if (t.name.empty()) p.push_back(path + "name: empty");
     if (!names.insert(t.name).second) p.push_back(path + "name: '" + t.name + "' used twice");
     if (t.colour.empty()) p.push_back(path + "colour: empty");
-    if (!t.shape.empty() && t.shape != "sphere" && t.shape != "cylinder" && t.shape != "box" && t.shape != "plane") {
-      p.push_back(path + "shape: '" + t.shape + "' is not sphere, cylinder, box, plane or empty (any)");
-    }
     requirePositive(p, path + "size_m", t.size_m);
     if (!(t.size_tolerance > 0.0 && t.size_tolerance < 1.0)) p.push_back(path + "size_tolerance must be in (0, 1)");
   }
@@ -79,7 +76,13 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
       Target target;
       f.required(t, "name", path, target.name);
       f.required(t, "colour", path, target.colour);
-      f.optional(t, "shape", path, target.shape);
+      std::string shape;
+      f.optional(t, "shape", path, shape);
+      try {
+        if (!shape.empty()) target.shape = shapeFromName(shape, path + "shape");
+      } catch (const std::invalid_argument& e) {
+        f.fail(e.what());
+      }
       f.required(t, "size_m", path, target.size_m);
       f.optional(t, "size_tolerance", path, target.size_tolerance);
       c.targets.push_back(target);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/colour_segmenter.h"
+#include "underwater_stereo/detection/outline_kind.h"
 #include "underwater_stereo/detection/water_contrast.h"
 
 namespace underwater_stereo {
@@ -42,7 +43,7 @@ struct Candidate {
   cv::Mat mask;                     ///< CV_8UC1 roi-sized: the object's pixels (contour filled AND colour)
   double area_px = 0.0;             ///< contour area
   double colour_fraction = 0.0;     ///< share of the contour's pixels in the colour mask
-  std::string outline;              ///< circle, ellipse, triangle, rectangle or polygon
+  OutlineKind outline = OutlineKind::kPolygon;  ///< classifyOutline(contour)
   cv::Scalar mean_bgr;              ///< mean colour of the object's pixels in the searched image
   /// How clearly the object's brightness falls into two flat levels: the Fisher ratio (m1 - m2)^2 /
   /// (s1^2 + s2^2) of an Otsu split of its (blurred) grey levels. A box shows faces of flat, different
@@ -56,9 +57,9 @@ struct Candidate {
 /// Fisher ratio of an Otsu split of the grey levels of `bgr_roi` under `mask` (Candidate::face_contrast).
 double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask);
 
-/// Classifies a closed contour: "circle", "ellipse", "triangle", "rectangle" or "polygon".
+/// Classifies a closed contour: circle, ellipse, triangle, rectangle or (none of those) polygon.
 /// @throw std::invalid_argument with fewer than 3 points.
-std::string classifyOutline(const std::vector<cv::Point>& contour);
+OutlineKind classifyOutline(const std::vector<cv::Point>& contour);
 
 /// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too).
 bool hueNeighbours(const ColourClass& a, const ColourClass& b);

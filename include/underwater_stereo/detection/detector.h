@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "underwater_stereo/detection/detector_config.h"
+#include "underwater_stereo/detection/outline_kind.h"
 #include "underwater_stereo/detection/raw_frame.h"
+#include "underwater_stereo/detection/shape_kind.h"
 #include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -20,8 +22,8 @@ namespace underwater_stereo {
 struct Detection {
   std::string colour;                 ///< designated colour class
   cv::Scalar measured_bgr;            ///< mean B, G, R (0-255) of its pixels in the raw left image
-  std::string shape = "unknown";      ///< sphere, cylinder, box, plane, unknown
-  std::string outline;                ///< circle, ellipse, triangle, rectangle, polygon
+  ShapeKind shape = ShapeKind::kUnknown;
+  OutlineKind outline = OutlineKind::kPolygon;  ///< of its 2D contour
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();   ///< as DetectedObject.size
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();

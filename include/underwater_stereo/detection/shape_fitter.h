@@ -12,10 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/detection/outline_kind.h"
+#include "underwater_stereo/detection/shape_kind.h"
+
 namespace underwater_stereo {
 
 struct ShapeFitConfig {
-  double min_points = 30;           ///< fewer points: "unknown"
+  double min_points = 30;           ///< fewer points: ShapeKind::kUnknown
   double plane_preference = 2.5;    ///< margin by which the model the outline does not favour must win
   double min_elongation = 2.2;      ///< outline length/width from which an object may be a cylinder
   double box_face_contrast = 20.0;  ///< an object whose shading splits this clearly into flat faces is a box
@@ -24,7 +27,7 @@ struct ShapeFitConfig {
 };
 
 struct ShapeFit {
-  std::string shape = "unknown";     ///< sphere, cylinder, box, plane or unknown
+  ShapeKind shape = ShapeKind::kUnknown;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();                 ///< [m] left optical frame
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< object z: cylinder axis / plane normal
   Eigen::Vector3d size = Eigen::Vector3d::Zero();                   ///< [m] as DetectedObject.size
@@ -33,14 +36,14 @@ struct ShapeFit {
 
 /// What the 2D image says about the shape.
 struct OutlineCues {
-  std::string outline;         ///< the contour's class (classifyOutline)
-  double face_contrast = 0.0;  ///< Candidate::face_contrast: flat faces of different shading
+  OutlineKind outline = OutlineKind::kPolygon;  ///< the contour's class (classifyOutline)
+  double face_contrast = 0.0;                   ///< Candidate::face_contrast: flat faces of different shading
 };
 
 /// Fits the object. `points`: its cluster (left optical frame, metres); `outline_rays`: unit viewing rays
 /// of its 2D contour (left optical frame, lens distortion removed); `cues`: the outline settles close calls
 /// between plane and sphere, and flat faces of clearly different shading make a box (stereo
-/// on uniformly coloured faces is too smooth to show their edges). Returns "unknown" with the points'
+/// on uniformly coloured faces is too smooth to show their edges). Returns ShapeKind::kUnknown with the points'
 /// centroid and extents when no model fits.
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays,
                   const OutlineCues& cues, const ShapeFitConfig& config);

@@ -28,9 +28,10 @@ class TargetMatcher {
   /// @throw std::invalid_argument when the configuration does not validate.
   explicit TargetMatcher(const TrackingConfig& config);
 
-  /// The target a detection of `colour`, `shape` ("unknown" fits a target of any shape) and extents `size_m`
-  /// (its largest component is compared with Target::size_m) fits best (the smallest relative size error).
-  TargetMatch match(const std::string& colour, const std::string& shape, const Eigen::Vector3d& size_m) const;
+  /// The target a detection of `colour`, `shape` (shapesAgree with the target's: kUnknown fits a target of any
+  /// shape) and extents `size_m` (its largest component is compared with Target::size_m) fits best (the smallest
+  /// relative size error).
+  TargetMatch match(const std::string& colour, ShapeKind shape, const Eigen::Vector3d& size_m) const;
 
   /// Whether a detection with this match is reported and tracked (targets_only, reject_wrong_size).
   bool keep(const TargetMatch& m) const;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/detection/shape_kind.h"
 #include "underwater_stereo/tracking/constant_velocity_filter.h"
 #include "underwater_stereo/tracking/tracking_config.h"
 
@@ -26,7 +27,7 @@ struct Track {
   std::uint32_t id = 0;         ///< > 0, never reused by one Tracker
   TrackStatus status = TrackStatus::kTentative;
   std::string colour;
-  std::string shape;            ///< the latest known shape ("unknown" until one is measured)
+  ShapeKind shape = ShapeKind::kUnknown;  ///< the latest known shape (kUnknown until one is measured)
   int target = -1;              ///< index into TrackingConfig::targets, -1: none
   std::string label;            ///< the target's name, empty when none
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  ///< mean of the measured sizes
@@ -44,7 +45,7 @@ struct Track {
 struct Observation {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< [m] centre in the left optical frame
   std::string colour;
-  std::string shape = "unknown";
+  ShapeKind shape = ShapeKind::kUnknown;
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
   int target = -1;              ///< index into TrackingConfig::targets (TargetMatcher), -1: none
 };

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/detection/shape_kind.h"
+
 namespace YAML {
 class Node;
 }
@@ -16,7 +18,7 @@ namespace underwater_stereo {
 struct Target {
   std::string name;             ///< e.g. "red_buoy"; becomes the detection's and the track's label
   std::string colour;           ///< designated colour class, e.g. "red"
-  std::string shape;            ///< sphere, cylinder, box, plane; empty: any shape
+  ShapeKind shape = ShapeKind::kUnknown;  ///< kUnknown: any shape (YAML: left out, empty or "unknown")
   double size_m = 0.0;          ///< [m] largest extent (a sphere's diameter, a cylinder's length)
   double size_tolerance = 0.3;  ///< relative: sizes within size_m * (1 +- size_tolerance) fit
 };
