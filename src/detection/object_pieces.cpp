@@ -4,8 +4,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <numeric>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace underwater_stereo {
 namespace {
@@ -23,19 +26,41 @@ Box boxOf(const std::vector<Eigen::Vector3f>& points) {
   return b;
 }
 
-/// Whether any point of `a` lies within `gap` of one of `b` (boxes first: most pairs are far apart).
+/// Cell of `p` in a grid of cubes `size` wide, packed into one key (21 bits per axis, offset to stay positive).
+std::uint64_t cellKey(const Eigen::Vector3f& p, float size, int dx = 0, int dy = 0, int dz = 0) {
+  const auto axis = [size](float v, int d) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v / size)) + d + (1 << 20)) & 0x1FFFFF;
+  };
+  return axis(p.x(), dx) << 42 | axis(p.y(), dy) << 21 | axis(p.z(), dz);
+}
+
+/// Whether any point of `a` lies within `gap` of one of `b` (boxes first: most pairs are far apart; then b's
+/// points in cubes `gap` wide, so each point of a is compared with b's points in the 27 cubes around it only:
+/// linear in the points, whatever stereo.max_points allows).
 bool touching(const std::vector<Eigen::Vector3f>& a, const Box& box_a, const std::vector<Eigen::Vector3f>& b,
               const Box& box_b, float gap) {
   if (a.empty() || b.empty()) return false;
   if (((box_a.min.array() - gap) > box_b.max.array()).any() || ((box_b.min.array() - gap) > box_a.max.array()).any()) {
     return false;
   }
+  std::unordered_map<std::uint64_t, std::vector<int>> cells;
+  for (int j = 0; j < static_cast<int>(b.size()); ++j) {
+    if (b[j].allFinite()) cells[cellKey(b[j], gap)].push_back(j);
+  }
   const float gap2 = gap * gap;
   for (const auto& p : a) {
-    // Only the points of a near b's box can touch it.
+    if (!p.allFinite()) continue;
     if (((p.array() + gap) < box_b.min.array()).any() || ((p.array() - gap) > box_b.max.array()).any()) continue;
-    for (const auto& q : b) {
-      if ((p - q).squaredNorm() <= gap2) return true;
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = cells.find(cellKey(p, gap, dx, dy, dz));
+          if (it == cells.end()) continue;
+          for (int j : it->second) {
+            if ((p - b[j]).squaredNorm() <= gap2) return true;
+          }
+        }
+      }
     }
   }
   return false;
