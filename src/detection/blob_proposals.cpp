@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/blob_proposals.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/image_checks.h"
@@ -171,9 +173,14 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
   if (contrast.contrast.size() != bgr.size()) throw std::invalid_argument("proposeBlobs: contrast and image sizes differ");
   const auto problems = config.validate();
   if (!problems.empty()) throw std::invalid_argument("proposeBlobs: " + problems.front());
-  std::vector<BlobProposal> out;
-  for (const SaliencyKind kind : {SaliencyKind::kChroma, SaliencyKind::kFull}) {
-    for (const double level : config.levels) {
+  // Each (saliency, level) cut on its own (in parallel with OpenCV's threads), then in that order: the same
+  // proposals whichever thread cut them.
+  const int levels = static_cast<int>(config.levels.size());
+  std::vector<std::vector<BlobProposal>> cuts(2 * levels);
+  cv::parallel_for_(cv::Range(0, 2 * levels), [&](const cv::Range& range) {
+    for (int k = range.start; k < range.end; ++k) {
+      const SaliencyKind kind = k < levels ? SaliencyKind::kChroma : SaliencyKind::kFull;
+      const double level = config.levels[k % levels];
       std::vector<std::vector<cv::Point>> contours;
       cv::findContours(salientMask(contrast, kind, level), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
       for (auto& contour : contours) {
@@ -188,10 +195,12 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
         b.kind = kind;
         b.level = level;
         b.contour = std::move(contour);
-        out.push_back(std::move(b));
+        cuts[k].push_back(std::move(b));
       }
     }
-  }
+  });
+  std::vector<BlobProposal> out;
+  for (auto& cut : cuts) std::move(cut.begin(), cut.end(), std::back_inserter(out));
   if (out.size() > static_cast<std::size_t>(config.max_proposals)) {
     // The most salient (highest level, then largest) first.
     std::stable_sort(out.begin(), out.end(), [](const BlobProposal& a, const BlobProposal& b) {
@@ -199,7 +208,9 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
     });
     out.resize(config.max_proposals);
   }
-  for (BlobProposal& b : out) b.features = describe(bgr, contrast, b);
+  cv::parallel_for_(cv::Range(0, static_cast<int>(out.size())), [&](const cv::Range& range) {
+    for (int i = range.start; i < range.end; ++i) out[i].features = describe(bgr, contrast, out[i]);
+  });
   return out;
 }
 

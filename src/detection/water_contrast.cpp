@@ -2,6 +2,7 @@
 #include "underwater_stereo/detection/water_contrast.h"
 
 #include <opencv2/core/hal/intrin.hpp>
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -128,42 +129,46 @@ void measureAgainstWater(const cv::Mat& bgr, const WaterContrastConfig& config, 
   out.contrast.create(bgr.size(), CV_32FC3);
   out.saliency[0].create(bgr.size(), CV_32FC1);
   out.saliency[1].create(bgr.size(), CV_32FC1);
-  for (int y = 0; y < bgr.rows; ++y) {
-    const auto* i = bgr.ptr<cv::Vec3b>(y);
-    const auto* w = out.water.ptr<cv::Vec3b>(y);
-    auto* c = out.contrast.ptr<cv::Vec3f>(y);
-    auto* s0 = out.saliency[0].ptr<float>(y);
-    auto* s1 = out.saliency[1].ptr<float>(y);
-    for (int x = 0; x < bgr.cols; ++x) c[x] = contrast(i[x], w[x]);
-    // The saliencies, several pixels at a time: the same operations in the same order as the scalar tail
-    // below (chromaOf's mean, then the normalised distances), so the result does not depend on the lanes.
-    int x = 0;
+  // Rows in parallel (OpenCV's threads: one worker with both cores halves this stage; each row's result is
+  // the same either way).
+  cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
+    for (int y = rows.start; y < rows.end; ++y) {
+      const auto* i = bgr.ptr<cv::Vec3b>(y);
+      const auto* w = out.water.ptr<cv::Vec3b>(y);
+      auto* c = out.contrast.ptr<cv::Vec3f>(y);
+      auto* s0 = out.saliency[0].ptr<float>(y);
+      auto* s1 = out.saliency[1].ptr<float>(y);
+      for (int x = 0; x < bgr.cols; ++x) c[x] = contrast(i[x], w[x]);
+      // The saliencies, several pixels at a time: the same operations in the same order as the scalar tail
+      // below (chromaOf's mean, then the normalised distances), so the result does not depend on the lanes.
+      int x = 0;
 #if CV_SIMD
-    const float* cf = c[0].val;
-    const cv::v_float32 third = cv::vx_setall_f32(1.f / 3.f);
-    const cv::v_float32 vm0[3] = {cv::vx_setall_f32(m0[0]), cv::vx_setall_f32(m0[1]), cv::vx_setall_f32(m0[2])};
-    const cv::v_float32 vm1[3] = {cv::vx_setall_f32(m1[0]), cv::vx_setall_f32(m1[1]), cv::vx_setall_f32(m1[2])};
-    const cv::v_float32 vk0[3] = {cv::vx_setall_f32(k0[0]), cv::vx_setall_f32(k0[1]), cv::vx_setall_f32(k0[2])};
-    const cv::v_float32 vk1[3] = {cv::vx_setall_f32(k1[0]), cv::vx_setall_f32(k1[1]), cv::vx_setall_f32(k1[2])};
-    for (; x <= bgr.cols - cv::v_float32::nlanes; x += cv::v_float32::nlanes) {
-      cv::v_float32 cb, cg, cr;
-      cv::v_load_deinterleave(cf + 3 * x, cb, cg, cr);
-      const cv::v_float32 mean = (cb + cg + cr) * third;
-      const cv::v_float32 a0 = (cb - mean - vm0[0]) * vk0[0], b0 = (cg - mean - vm0[1]) * vk0[1],
-                          c0 = (cr - mean - vm0[2]) * vk0[2];
-      const cv::v_float32 a1 = (cb - vm1[0]) * vk1[0], b1 = (cg - vm1[1]) * vk1[1], c1 = (cr - vm1[2]) * vk1[2];
-      cv::v_store(s0 + x, cv::v_sqrt(a0 * a0 + b0 * b0 + c0 * c0));
-      cv::v_store(s1 + x, cv::v_sqrt(a1 * a1 + b1 * b1 + c1 * c1));
-    }
+      const float* cf = c[0].val;
+      const cv::v_float32 third = cv::vx_setall_f32(1.f / 3.f);
+      const cv::v_float32 vm0[3] = {cv::vx_setall_f32(m0[0]), cv::vx_setall_f32(m0[1]), cv::vx_setall_f32(m0[2])};
+      const cv::v_float32 vm1[3] = {cv::vx_setall_f32(m1[0]), cv::vx_setall_f32(m1[1]), cv::vx_setall_f32(m1[2])};
+      const cv::v_float32 vk0[3] = {cv::vx_setall_f32(k0[0]), cv::vx_setall_f32(k0[1]), cv::vx_setall_f32(k0[2])};
+      const cv::v_float32 vk1[3] = {cv::vx_setall_f32(k1[0]), cv::vx_setall_f32(k1[1]), cv::vx_setall_f32(k1[2])};
+      for (; x <= bgr.cols - cv::v_float32::nlanes; x += cv::v_float32::nlanes) {
+        cv::v_float32 cb, cg, cr;
+        cv::v_load_deinterleave(cf + 3 * x, cb, cg, cr);
+        const cv::v_float32 mean = (cb + cg + cr) * third;
+        const cv::v_float32 a0 = (cb - mean - vm0[0]) * vk0[0], b0 = (cg - mean - vm0[1]) * vk0[1],
+                            c0 = (cr - mean - vm0[2]) * vk0[2];
+        const cv::v_float32 a1 = (cb - vm1[0]) * vk1[0], b1 = (cg - vm1[1]) * vk1[1], c1 = (cr - vm1[2]) * vk1[2];
+        cv::v_store(s0 + x, cv::v_sqrt(a0 * a0 + b0 * b0 + c0 * c0));
+        cv::v_store(s1 + x, cv::v_sqrt(a1 * a1 + b1 * b1 + c1 * c1));
+      }
 #endif
-    for (; x < bgr.cols; ++x) {
-      const cv::Vec3f h = chromaOf(c[x]);
-      const float a0 = (h[0] - m0[0]) * k0[0], b0 = (h[1] - m0[1]) * k0[1], c0 = (h[2] - m0[2]) * k0[2];
-      const float a1 = (c[x][0] - m1[0]) * k1[0], b1 = (c[x][1] - m1[1]) * k1[1], c1 = (c[x][2] - m1[2]) * k1[2];
-      s0[x] = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
-      s1[x] = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
+      for (; x < bgr.cols; ++x) {
+        const cv::Vec3f h = chromaOf(c[x]);
+        const float a0 = (h[0] - m0[0]) * k0[0], b0 = (h[1] - m0[1]) * k0[1], c0 = (h[2] - m0[2]) * k0[2];
+        const float a1 = (c[x][0] - m1[0]) * k1[0], b1 = (c[x][1] - m1[1]) * k1[1], c1 = (c[x][2] - m1[2]) * k1[2];
+        s0[x] = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
+        s1[x] = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
+      }
     }
-  }
+  });
 }
 
 void requireValid(const WaterContrastConfig& config, const char* who) {
