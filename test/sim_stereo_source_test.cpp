@@ -7,6 +7,7 @@
 #include <chrono>
 #include <iostream>
 #include <thread>
+#include <vector>
 
 #include "sim_test_helpers.h"
 #include "underwater_stereo/sim/sim_stereo_source.h"
@@ -41,6 +42,32 @@ TEST(SimStereoSource, LoopRepeatsCachedFrames) {
   EXPECT_EQ(b.sequence, 4U);
   EXPECT_EQ(cv::norm(a.left, b.left, cv::NORM_INF), 0.0);
   EXPECT_EQ(a.ground_truth[0].centre_left_m, b.ground_truth[0].centre_left_m);
+}
+
+// The loop's images are row ranges of one buffer (one allocation, unmapped whole when the source and the last
+// frame holding it are gone: see loop_images_), in their own rows, and stay valid after the source is destroyed.
+TEST(SimStereoSource, CachedLoopIsOneBufferThatFramesKeepAlive) {
+  const std::shared_ptr<const Renderer> renderer = movingBall();
+  std::vector<StereoFrame> frames;
+  {
+    SimStereoSource source(renderer, {10.0, 3});
+    for (std::uint64_t k = 0; k < 4; ++k) frames.push_back(source.frame(k));
+  }
+  const std::size_t image_bytes = frames[0].left.total() * frames[0].left.elemSize();
+  const uchar* buffer = frames[0].left.datastart;
+  EXPECT_EQ(frames[0].left.datalimit - buffer, static_cast<std::ptrdiff_t>(2 * 3 * image_bytes));
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (const cv::Mat* image : {&frames[k].left, &frames[k].right}) {
+      EXPECT_EQ(image->datastart, buffer) << "frame " << k;
+      EXPECT_TRUE(image->isContinuous());
+    }
+    EXPECT_EQ(frames[k].left.data, buffer + 2 * k * image_bytes) << "frame " << k;
+    EXPECT_EQ(frames[k].right.data, buffer + (2 * k + 1) * image_bytes) << "frame " << k;
+    const RenderedPair truth = renderer->render(k / 10.0, k);
+    EXPECT_EQ(cv::norm(frames[k].left, truth.left, cv::NORM_INF), 0.0) << "frame " << k;
+    EXPECT_EQ(cv::norm(frames[k].right, truth.right, cv::NORM_INF), 0.0) << "frame " << k;
+  }
+  EXPECT_EQ(frames[3].left.data, frames[0].left.data) << "frame 3 repeats frame 0 from the cache";
 }
 
 TEST(SimStereoSource, DeliversFramesInOrderUntilStopped) {

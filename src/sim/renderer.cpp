@@ -18,8 +18,8 @@ namespace {
 
 constexpr float kObjectTextureFrequency = 14.0F;  // [1/m] ~7 cm blotches on object surfaces
 
-/// Unit viewing ray of every pixel of a distorted camera, in its optical frame.
-cv::Mat pixelRays(const PinholeCamera& cam) {
+/// Unit viewing ray of every pixel of a distorted camera, in its optical frame, into `rays` (CV_32FC3, cam's size).
+void pixelRays(const PinholeCamera& cam, cv::Mat rays) {
   cv::Mat pixels(cam.width * cam.height, 1, CV_64FC2);
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) pixels.at<cv::Vec2d>(v * cam.width + u) = cv::Vec2d(u, v);
@@ -27,7 +27,6 @@ cv::Mat pixelRays(const PinholeCamera& cam) {
   cv::Mat normalised;
   cv::undistortPoints(pixels, normalised, cv::Mat(cam.K), cv::Mat(cam.D), cv::noArray(), cv::noArray(),
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
-  cv::Mat rays(cam.height, cam.width, CV_32FC3);
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
       const cv::Vec2d xy = normalised.at<cv::Vec2d>(v * cam.width + u);
@@ -36,7 +35,6 @@ cv::Mat pixelRays(const PinholeCamera& cam) {
                                            static_cast<float>(1.0 / norm));
     }
   }
-  return rays;
 }
 
 Eigen::Vector3d displacement(const Motion& m, double t) {
@@ -189,9 +187,25 @@ void renderCamera(const ShadingContext& ctx, const cv::Mat& rays, cv::Mat& linea
   });
 }
 
-/// Camera response: gamma, blur, read noise, 8-bit quantisation, Bayer mosaic.
-cv::Mat develop(const cv::Mat& linear_bgr, const SensorConfig& sensor, std::uint64_t noise_seed) {
-  cv::Mat encoded;
+/// The image-sized float images one render works in (each camera's linear light, then develop()'s steps), carved
+/// out of ONE allocation: above glibc's mmap threshold (the launch files set 32 MB; 138 MB at 1920x1200) it is
+/// mapped for the render and unmapped after, where five 27.6 MB images allocated one by one would come from the
+/// heap and, freed, stay there (the launch files' MALLOC_TRIM_THRESHOLD_), moving RSS by where they fell.
+/// The images share the buffer's reference count; none of them is returned.
+class Scratch {
+ public:
+  enum Slot { kLeftLinear, kRightLinear, kEncoded, kBlurred, kNoise, kSlots };
+  explicit Scratch(cv::Size size) : buffer_(kSlots * size.height, size.width, CV_32FC3), rows_(size.height) {}
+  cv::Mat operator[](Slot slot) const { return buffer_.rowRange(slot * rows_, (slot + 1) * rows_); }
+
+ private:
+  cv::Mat buffer_;
+  int rows_;
+};
+
+/// Camera response: gamma, blur, read noise, 8-bit quantisation, Bayer mosaic; linear_bgr is overwritten.
+cv::Mat develop(cv::Mat linear_bgr, const SensorConfig& sensor, std::uint64_t noise_seed, const Scratch& scratch) {
+  cv::Mat encoded = scratch[Scratch::kEncoded];
   cv::max(linear_bgr, 0.0, encoded);
   if (sensor.white_balance != Eigen::Vector3d::Ones()) {
     cv::multiply(encoded, cv::Scalar(sensor.white_balance.z(), sensor.white_balance.y(), sensor.white_balance.x()),
@@ -200,16 +214,21 @@ cv::Mat develop(const cv::Mat& linear_bgr, const SensorConfig& sensor, std::uint
   cv::min(encoded, 1.0, encoded);
   cv::pow(encoded, 1.0 / sensor.gamma, encoded);
   encoded *= 255.0;
-  if (sensor.blur_sigma_px > 0.0) cv::GaussianBlur(encoded, encoded, cv::Size(), sensor.blur_sigma_px);
+  if (sensor.blur_sigma_px > 0.0) {
+    cv::Mat blurred = scratch[Scratch::kBlurred];
+    cv::GaussianBlur(encoded, blurred, cv::Size(), sensor.blur_sigma_px);
+    encoded = blurred;
+  }
   if (sensor.noise_sigma > 0.0) {
-    cv::Mat noise(encoded.size(), encoded.type());
+    cv::Mat noise = scratch[Scratch::kNoise];
     cv::RNG rng(noise_seed);
     rng.fill(noise, cv::RNG::NORMAL, 0.0, sensor.noise_sigma);
     encoded += noise;
   }
-  cv::Mat bgr8;
+  // 8-bit, in the linear image's bytes (no longer needed): a view, so mosaiced or copied before it is returned.
+  cv::Mat bgr8(encoded.size(), CV_8UC3, linear_bgr.data);
   encoded.convertTo(bgr8, CV_8UC3);
-  return sensor.encoding == "bayer_rggb8" ? mosaicRggb(bgr8) : bgr8;
+  return sensor.encoding == "bayer_rggb8" ? mosaicRggb(bgr8) : bgr8.clone();
 }
 
 }  // namespace
@@ -232,8 +251,12 @@ cv::Mat mosaicRggb(const cv::Mat& bgr) {
 Renderer::Renderer(Scene scene) : scene_(std::move(scene)), rig_(scene_.rig) {
   const std::vector<std::string> problems = scene_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
-  left_rays_ = pixelRays(rig_.left());
-  right_rays_ = pixelRays(rig_.right());
+  // Both cameras' rays in one allocation (55 MB at 1920x1200), unmapped when the renderer goes, as Scratch's.
+  const cv::Mat rays(2 * rig_.left().height, rig_.left().width, CV_32FC3);
+  left_rays_ = rays.rowRange(0, rig_.left().height);
+  right_rays_ = rays.rowRange(rig_.left().height, rays.rows);
+  pixelRays(rig_.left(), left_rays_);
+  pixelRays(rig_.right(), right_rays_);
 }
 
 Renderer::Renderer(Scene scene, const Renderer& rays_from) : scene_(std::move(scene)), rig_(scene_.rig) {
@@ -293,15 +316,16 @@ RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
                      scene_.light.lamp_colour.cast<float>(),
                      static_cast<float>(scene_.light.exposure),
                      static_cast<float>(time_s)};
-  cv::Mat left_linear, right_linear;
+  const Scratch scratch(left_rays_.size());
+  cv::Mat left_linear = scratch[Scratch::kLeftLinear], right_linear = scratch[Scratch::kRightLinear];
   renderCamera(ctx, left_rays_, left_linear, &out.left_labels);
   ctx.cam_rotation = right_pose.linear().cast<float>();
   ctx.cam_position = right_pose.translation().cast<float>();
   renderCamera(ctx, right_rays_, right_linear, nullptr);
 
   const std::uint64_t seed = scene_.sensor.seed * 1000003ULL + frame_index * 2ULL;
-  out.left = develop(left_linear, scene_.sensor, seed);
-  out.right = develop(right_linear, scene_.sensor, seed + 1);
+  out.left = develop(left_linear, scene_.sensor, seed, scratch);
+  out.right = develop(right_linear, scene_.sensor, seed + 1, scratch);
 
   for (std::size_t i = 0; i < out.ground_truth.size(); ++i) {
     const cv::Mat mask = out.left_labels == static_cast<std::uint16_t>(i + 1);

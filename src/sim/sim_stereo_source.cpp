@@ -42,10 +42,26 @@ StereoFrame SimStereoSource::frame(std::uint64_t sequence) {
     out.encoding = pair.encoding;
     out.ground_truth = std::move(pair.ground_truth);
     out.camera_pose_world = pair.camera_pose;
-    if (config_.loop_frames > 0) cache_[scene_index] = out;
+    if (config_.loop_frames > 0) {
+      out.left = cacheImage(scene_index, 0, out.left);
+      out.right = cacheImage(scene_index, 1, out.right);
+      cache_[scene_index] = out;
+    }
   }
   out.sequence = sequence;
   return out;
+}
+
+cv::Mat SimStereoSource::cacheImage(std::uint64_t scene_index, int side, const cv::Mat& image) {
+  if (loop_images_.empty()) loop_images_.create(2 * config_.loop_frames * image.rows, image.cols, image.type());
+  if (image.cols != loop_images_.cols || image.type() != loop_images_.type() ||
+      2 * config_.loop_frames * image.rows != loop_images_.rows) {
+    throw std::logic_error("SimStereoSource: the renderer's images changed size or type within the loop");
+  }
+  const int first_row = static_cast<int>(2 * scene_index + side) * image.rows;
+  cv::Mat slot = loop_images_.rowRange(first_row, first_row + image.rows);
+  image.copyTo(slot);
+  return slot;
 }
 
 void SimStereoSource::start(FrameCallback callback) {

@@ -37,10 +37,16 @@ class SimStereoSource : public StereoSource {
 
  private:
   void run(FrameCallback callback);
+  /// Copies one rendered image into its slot of loop_images_ (allocated at the first call) and returns the slot.
+  cv::Mat cacheImage(std::uint64_t scene_index, int side, const cv::Mat& image);
 
   std::shared_ptr<const Renderer> renderer_;
   SimSourceConfig config_;
   std::map<std::uint64_t, StereoFrame> cache_;  ///< only with loop_frames > 0; touched by the source thread only
+  /// The cached loop's images, all in one buffer (cache_'s images are row ranges of it): one allocation above
+  /// glibc's mmap threshold is unmapped when freed, where 2 x loop_frames image-sized ones would stay in the
+  /// heap after the source is destroyed (the launch files' MALLOC_TRIM_THRESHOLD_) and move its RSS.
+  cv::Mat loop_images_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool running_ = false;  ///< guarded by mutex_
