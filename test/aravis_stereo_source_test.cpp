@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdlib>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -18,20 +19,32 @@
 
 using namespace underwater_stereo;
 
-TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoad) {
-  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
-    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
+/// Two fake cameras (127.0.0.1 and 127.0.0.2, the second added to lo as root) and a configuration that opens
+/// them, on the fake's trigger line.
+class TwoFakeCameras : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
+      GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
+    }
+    // Started once 127.0.0.2 exists.
+    left_fake.emplace("127.0.0.1", "UWS-L");
+    right_fake.emplace("127.0.0.2", "UWS-R");
+    ASSERT_TRUE(left_fake->running() && right_fake->running()) << "could not start two fake cameras";
+    for (CameraSettings* s : {&config.left, &config.right}) s->trigger_line = "Line0";
+    config.left.id = "127.0.0.1";
+    config.right.id = "127.0.0.2";
   }
-  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
-  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
+
+  std::optional<test::FakeGvCamera> left_fake, right_fake;
   AravisStereoConfig config;
+};
+
+TEST_F(TwoFakeCameras, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoad) {
   for (CameraSettings* s : {&config.left, &config.right}) {
     s->exposure_us = 5000;
     s->gain = 0;
-    s->trigger_line = "Line0";
   }
-  config.left.id = "127.0.0.1";
-  config.right.id = "127.0.0.2";
   config.sync = TriggerMode::kFreeRun;  // the two cameras' frames complete pairs on either thread
   config.controls.rate_hz = 40;
   std::mutex mutex;
@@ -86,15 +99,7 @@ TEST(AravisStereoSource, PairsArriveInIncreasingCaptureTimeFromOneThreadUnderLoa
   EXPECT_GE(stamps.size() + status.overflowed + status.out_of_order + 4, status.pairs);
 }
 
-TEST(AravisStereoSource, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFrameWasTakenWith) {
-  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
-    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
-  }
-  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
-  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
-  AravisStereoConfig config;
-  config.left.id = "127.0.0.1";
-  config.right.id = "127.0.0.2";
+TEST_F(TwoFakeCameras, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFrameWasTakenWith) {
   config.left.exposure_us = 3000;
   config.right.exposure_us = 7000;  // independent: each as configured
   for (CameraSettings* s : {&config.left, &config.right}) s->gain = -1;  // the fake's GainAuto
@@ -123,20 +128,11 @@ TEST(AravisStereoSource, IndependentCamerasWithTheirOwnAutoGainReportWhatEachFra
     EXPECT_NE(l.camera.find("UWS-L"), std::string::npos);
     EXPECT_FALSE(l.ptp);
   }
-  EXPECT_EQ(left_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 3000U);
-  EXPECT_EQ(right_fake.readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 7000U);
+  EXPECT_EQ(left_fake->readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 3000U);
+  EXPECT_EQ(right_fake->readRegister(ARV_FAKE_CAMERA_REGISTER_EXPOSURE_TIME_US), 7000U);
 }
 
-TEST(AravisStereoSource, MasterSlaveAutoGainOnACameraWithoutGainInDbIsReportedUnsupported) {
-  if (std::system("ip -o addr show dev lo | grep -q ' 127.0.0.2/' || ip addr add 127.0.0.2/8 dev lo 2>/dev/null") != 0) {
-    GTEST_SKIP() << "cannot add 127.0.0.2 to lo (needs root)";
-  }
-  test::FakeGvCamera left_fake("127.0.0.1", "UWS-L"), right_fake("127.0.0.2", "UWS-R");
-  ASSERT_TRUE(left_fake.running() && right_fake.running()) << "could not start two fake cameras";
-  AravisStereoConfig config;
-  for (CameraSettings* s : {&config.left, &config.right}) s->trigger_line = "Line0";
-  config.left.id = "127.0.0.1";
-  config.right.id = "127.0.0.2";
+TEST_F(TwoFakeCameras, MasterSlaveAutoGainOnACameraWithoutGainInDbIsReportedUnsupported) {
   config.controls.exposure_sync = ExposureSync::kMasterSlave;
   config.controls.gain = -1;  // auto, but the fake has GainRaw only
   AravisStereoSource source(config, [](bool, const std::string&) {});
