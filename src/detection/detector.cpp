@@ -128,6 +128,16 @@ cv::Rect colourSearchRegion(const cv::Rect& region, const DetectorConfig& config
   return x1 > x0 && y1 > y0 ? cv::Rect(x0, y0, x1 - x0, y1 - y0) : cv::Rect();
 }
 
+/// Adds one object's stage times (the right frame's colour mask, rectify, matching, reprojection, cluster, fit).
+void addObjectStages(StageTimings& into, const StageTimings& t) {
+  into.colour_ms += t.colour_ms;
+  into.rectify_ms += t.rectify_ms;
+  into.matching_ms += t.matching_ms;
+  into.reprojection_ms += t.reprojection_ms;
+  into.cluster_ms += t.cluster_ms;
+  into.fit_ms += t.fit_ms;
+}
+
 /// Pieces of one object (a near object split by a highlight or a shading band into detections of one colour
 /// whose 3D clusters nearly touch) are measured again as the one region they make together. "Nearly": within
 /// kPieceGapInEps cluster radii (eps_m), chosen on the validation seeds 60000-60029 (evaluate_detector --random
@@ -157,12 +167,7 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
     StageTimings t;
     Rejection rejected;
     std::optional<Detection> joined = measureOne(joinedCandidate(pieces, frame), t, rejected);
-    times[first].colour_ms += t.colour_ms;
-    times[first].rectify_ms += t.rectify_ms;
-    times[first].matching_ms += t.matching_ms;
-    times[first].reprojection_ms += t.reprojection_ms;
-    times[first].cluster_ms += t.cluster_ms;
-    times[first].fit_ms += t.fit_ms;
+    addObjectStages(times[first], t);
     if (!joined) continue;
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];
@@ -404,12 +409,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   }
   joinPieces(front.candidates, found, why, times, measureOne, left.size(), kPieceGapInEps * config_.cluster.eps_m);
   for (int k = 0; k < n; ++k) {
-    result.timings.colour_ms += times[k].colour_ms;
-    result.timings.rectify_ms += times[k].rectify_ms;
-    result.timings.matching_ms += times[k].matching_ms;
-    result.timings.reprojection_ms += times[k].reprojection_ms;
-    result.timings.cluster_ms += times[k].cluster_ms;
-    result.timings.fit_ms += times[k].fit_ms;
+    addObjectStages(result.timings, times[k]);
     if (found[k]) {
       result.objects.push_back(std::move(*found[k]));
     } else {
