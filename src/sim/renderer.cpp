@@ -216,7 +216,9 @@ cv::Mat develop(cv::Mat linear_bgr, const SensorConfig& sensor, std::uint64_t no
   encoded *= 255.0;
   if (sensor.blur_sigma_px > 0.0) {
     cv::Mat blurred = scratch[Scratch::kBlurred];
-    cv::GaussianBlur(encoded, blurred, cv::Size(), sensor.blur_sigma_px);
+    // Isolated: encoded is a slot of the scratch buffer, and OpenCV would take its border rows from the slots
+    // beside it.
+    cv::GaussianBlur(encoded, blurred, cv::Size(), sensor.blur_sigma_px, 0, cv::BORDER_DEFAULT | cv::BORDER_ISOLATED);
     encoded = blurred;
   }
   if (sensor.noise_sigma > 0.0) {
