@@ -35,6 +35,11 @@ TEST(FramePairer, PairsByCaptureTimeAndCountsFramesLeftWithoutAPartner) {
   }
   EXPECT_EQ(pairs, 9);
   EXPECT_EQ(p.dropped(), 1U);  // left 4, once right 5 arrived
+  ASSERT_TRUE(p.lastMiss());
+  EXPECT_EQ(p.lastMiss()->side, Pairer::kLeft);
+  EXPECT_EQ(p.lastMiss()->time_ns, 4 * period);
+  EXPECT_TRUE(p.lastMiss()->other_seen);
+  EXPECT_EQ(p.lastMiss()->other_minus_this_ns, period) << "the right frame that made it hopeless: right 5";
   EXPECT_EQ(p.waiting(Pairer::kLeft) + p.waiting(Pairer::kRight), 0U);
 }
 
@@ -44,8 +49,14 @@ TEST(FramePairer, FramesOutsideTheSkewNeverPairAndWaitingIsBounded) {
   EXPECT_FALSE(p.add(Pairer::kLeft, 0, 0));
   EXPECT_FALSE(p.add(Pairer::kRight, 5'000'000, 1)) << "5 ms apart";
   EXPECT_EQ(p.dropped(), 1U) << "left 0 can no longer pair";
+  ASSERT_TRUE(p.lastMiss());
+  EXPECT_EQ(p.lastMiss()->side, Pairer::kLeft);
+  EXPECT_EQ(p.lastMiss()->other_minus_this_ns, 5'000'000) << "the stamp difference seen";
   for (int k = 0; k < 6; ++k) p.add(Pairer::kRight, 10'000'000 + k * 100'000'000LL, k);
   EXPECT_EQ(p.waiting(Pairer::kRight), 3U);
+  EXPECT_EQ(p.lastMiss()->side, Pairer::kRight);
+  EXPECT_EQ(p.lastMiss()->time_ns, 210'000'000) << "the oldest right frame, pushed out";
+  EXPECT_FALSE(p.lastMiss()->other_seen) << "no left frame was waiting";
   EXPECT_EQ(p.pairs(), 0U);
   p.setMaxSkewNs(10'000'000);  // a slower free-run rate: half its period
   EXPECT_TRUE(p.add(Pairer::kLeft, 510'000'000 + 6'000'000, 9)) << "6 ms from right 5: within the new 10 ms";

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "underwater_stereo/camera/camera_controls.h"
@@ -38,6 +39,17 @@ namespace {
 std::int64_t hostNowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+/// The first software-trigger tick after `now`: the ticks lie on the steady clock at multiples of `period` plus
+/// half a period. Both camera threads compute the same ticks, so a pair's triggers go out together. The phase
+/// is arbitrary for a camera that exposes when triggered; half a period keeps the ticks clear of the round
+/// multiples, where a camera that serves triggers on its own grid of the same clock (Aravis' fake) wakes: a
+/// trigger sent just after such a wake-up races it, and one camera of the pair may serve it a period later.
+std::chrono::steady_clock::time_point nextTriggerTick(std::chrono::steady_clock::time_point now,
+                                                      std::chrono::steady_clock::duration period) {
+  const auto half = period / 2;
+  return std::chrono::steady_clock::time_point(((now.time_since_epoch() - half) / period + 1) * period + half);
 }
 
 bool sameExposure(const Exposure& a, const Exposure& b) {
@@ -175,6 +187,19 @@ StereoStatus AravisStereoSource::status() {
   std::lock_guard<std::mutex> lock(pair_mutex_);
   out.pairs = pairer_.pairs();
   out.unpaired = pairer_.dropped();
+  if (const auto& miss = pairer_.lastMiss()) {
+    const bool left = miss->side == FramePairer<CameraFrame>::kLeft;
+    char text[160];
+    if (miss->other_seen) {
+      std::snprintf(text, sizeof text, "%s frame at %.3f s: the nearest %s frame %+.1f ms from it (pairing within %.1f ms)",
+                    left ? "left" : "right", miss->time_ns / 1e9, left ? "right" : "left",
+                    miss->other_minus_this_ns / 1e6, pairer_.maxSkewNs() / 1e6);
+    } else {
+      std::snprintf(text, sizeof text, "%s frame at %.3f s: no %s frame came", left ? "left" : "right",
+                    miss->time_ns / 1e9, left ? "right" : "left");
+    }
+    out.last_unpaired = text;
+  }
   out.last_skew_ms = last_skew_ms_;
   out.ptp_stamps = out.left.ptp_settled && out.right.ptp_settled;
   const PairDelivery::Counts delivery = delivery_ ? delivery_->counts() : delivered_before_;
@@ -269,8 +294,7 @@ void AravisStereoSource::runCamera(int s) {
       return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
     };
     auto period = periodOf(side.in_use.rate_hz);
-    auto tick = std::chrono::steady_clock::time_point(
-        (std::chrono::steady_clock::now().time_since_epoch() / period + 1) * period);
+    auto tick = nextTriggerTick(std::chrono::steady_clock::now(), period);
     while (running_) {
       if (!applyChanges(s, *camera)) {
         reopen = true;
@@ -278,8 +302,7 @@ void AravisStereoSource::runCamera(int s) {
       }
       if (periodOf(side.in_use.rate_hz) != period) {
         period = periodOf(side.in_use.rate_hz);
-        tick = std::chrono::steady_clock::time_point(
-            (std::chrono::steady_clock::now().time_since_epoch() / period + 1) * period);
+        tick = nextTriggerTick(std::chrono::steady_clock::now(), period);
       }
       int wait_ms = 100;
       if (config_.sync == TriggerMode::kSoftware) {

@@ -358,9 +358,17 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   }
 
   void diagnosePairing(diagnostic_updater::DiagnosticStatusWrapper& stat) {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "pairing");
+    const std::uint64_t unpaired_now = last_status_.unpaired - std::min(last_unpaired_, last_status_.unpaired);
+    last_unpaired_ = last_status_.unpaired;
+    if (unpaired_now > 0) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::to_string(unpaired_now) +
+                   " frame(s) dropped without a partner since the last report; last: " + last_status_.last_unpaired);
+    } else {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "pairing");
+    }
     stat.add("pairs", last_status_.pairs);
     stat.add("unpaired frames dropped", last_status_.unpaired);
+    stat.add("last unpaired frame", last_status_.last_unpaired.empty() ? std::string("none") : last_status_.last_unpaired);
     stat.add("pairs dropped (capture time not after the previous)", last_status_.out_of_order);
     stat.add("pairs dropped (publisher busy)", last_status_.overflowed);
     stat.add("left/right skew of the last pair [ms]", last_status_.last_skew_ms);
@@ -419,6 +427,7 @@ class StereoCameraNodelet : public nodelet::Nodelet {
   StereoStatus last_status_;
   std::vector<std::string> warned_unsupported_[2];
   std::uint64_t last_frames_[2] = {0, 0};
+  std::uint64_t last_unpaired_ = 0;  // unpaired frames at the last pairing report
 };
 
 }  // namespace underwater_stereo

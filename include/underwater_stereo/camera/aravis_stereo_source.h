@@ -83,6 +83,7 @@ struct StereoStatus {
   CameraStatus left, right;
   std::uint64_t pairs = 0;
   std::uint64_t unpaired = 0;       ///< frames dropped without a partner
+  std::string last_unpaired;        ///< the last of them: its side and the stamp difference seen; empty if none
   std::uint64_t out_of_order = 0;   ///< pairs dropped: capture time not after the previous pair's
   std::uint64_t overflowed = 0;     ///< pairs dropped: the receiver was still busy with earlier ones
   double last_skew_ms = 0.0;        ///< capture-time difference of the last pair
