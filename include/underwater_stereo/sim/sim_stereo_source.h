@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "underwater_stereo/camera/stereo_source.h"
@@ -33,7 +34,15 @@ class SimStereoSource : public StereoSource {
   void stop() override;
 
   /// Renders (or takes from the loop cache) pair number `sequence`.
+  /// @throw std::runtime_error when a render's image size or type differs from the loop's first (naming both).
   StereoFrame frame(std::uint64_t sequence);
+
+  /// Pairs the source thread could not make (frame() threw): skipped, the thread goes on with the next.
+  struct Errors {
+    std::uint64_t count = 0;
+    std::string last;  ///< the last one's message
+  };
+  Errors errors();
 
  private:
   void run(FrameCallback callback);
@@ -50,6 +59,7 @@ class SimStereoSource : public StereoSource {
   std::mutex mutex_;
   std::condition_variable wake_;
   bool running_ = false;  ///< guarded by mutex_
+  Errors errors_;         ///< guarded by mutex_
   std::thread thread_;
 };
 
