@@ -174,7 +174,9 @@ class StereoCameraNodelet : public nodelet::Nodelet {
                         << calibration_.left.height << ", baseline " << calibration_.baselineM() << " m, f "
                         << calibration_.focalPx() << " px) rate_hz=" << sim_config.rate_hz
                         << " loop_frames=" << sim_config.loop_frames << " frame_id=" << frame_id_);
-    source_ = std::make_unique<sim::SimStereoSource>(renderer, sim_config);
+    source_ = std::make_unique<sim::SimStereoSource>(renderer, sim_config, [this](const std::string& message) {
+      NODELET_ERROR_STREAM_THROTTLE(5.0, "StereoCameraNodelet: " << message);
+    });
   }
 
   /// Reads <side>/... camera parameters (shared defaults from the private namespace).

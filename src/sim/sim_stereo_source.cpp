@@ -20,8 +20,9 @@ std::vector<std::string> SimSourceConfig::validate() const {
   return problems;
 }
 
-SimStereoSource::SimStereoSource(std::shared_ptr<const Renderer> renderer, const SimSourceConfig& config)
-    : renderer_(std::move(renderer)), config_(config) {
+SimStereoSource::SimStereoSource(std::shared_ptr<const Renderer> renderer, const SimSourceConfig& config,
+                                 ErrorLog log_error)
+    : renderer_(std::move(renderer)), config_(config), log_error_(std::move(log_error)) {
   if (!renderer_) throw std::invalid_argument("SimStereoSource: no renderer");
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid simulated source config", problems));
@@ -87,11 +88,6 @@ void SimStereoSource::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-SimStereoSource::Errors SimStereoSource::errors() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return errors_;
-}
-
 void SimStereoSource::run(FrameCallback callback) {
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
@@ -100,10 +96,8 @@ void SimStereoSource::run(FrameCallback callback) {
     StereoFrame pair;
     try {
       pair = frame(sequence);
-    } catch (const std::exception& e) {  // one pair lost, recorded in errors(); the source goes on
-      std::lock_guard<std::mutex> lock(mutex_);
-      ++errors_.count;
-      errors_.last = e.what();
+    } catch (const std::exception& e) {  // one pair lost, reported; the source goes on
+      if (log_error_) log_error_(e.what());
       pair = StereoFrame();
     }
     {
