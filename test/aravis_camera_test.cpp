@@ -8,6 +8,7 @@
 
 #include "fake_gv_camera.h"
 #include "underwater_stereo/camera/aravis_camera.h"
+#include "underwater_stereo/camera/pixel_buffer_pool.h"
 
 using namespace underwater_stereo;
 
@@ -70,6 +71,44 @@ TEST(AravisCamera, StreamsCompleteFramesWithTheConfiguredFormatAndReadsSettingsB
   ASSERT_TRUE(camera.next(g, test::scaledMs(2000)));
   EXPECT_NE(g.frame_id, f.frame_id);
   camera.stop();
+}
+
+TEST(AravisCamera, FramesComeFromRecycledBuffersThatKeepTheirBytesWhileHeldAndSurviveARestart) {
+  FakeCamera fake("UWS-T2");
+  ASSERT_TRUE(fake.running()) << "could not start a fake camera on 127.0.0.1";
+  auto& pool = PixelBufferPool::frames();
+  std::vector<std::string> report;
+  CameraFrame held;
+  cv::Mat held_copy;
+  std::uint64_t allocations_streaming = 0;
+  {
+    AravisCamera camera(fakeSettings(), report);
+    camera.start();
+    ASSERT_TRUE(camera.next(held, test::scaledMs(2000)));
+    held_copy = held.image.clone();
+    CameraFrame f;
+    for (int i = 0; i < 5; ++i) ASSERT_TRUE(camera.next(f, test::scaledMs(2000)));  // warm-up
+    allocations_streaming = pool.allocations();
+    int differing = 0;
+    for (int i = 0; i < 20; ++i) {  // each frame released when the next replaces it
+      ASSERT_TRUE(camera.next(f, test::scaledMs(2000)));
+      EXPECT_NE(f.pixels->data(), held.pixels->data()) << "a held frame's buffer is never handed out again";
+      differing += cv::norm(f.image, held_copy, cv::NORM_INF) > 0;
+    }
+    EXPECT_GT(differing, 0) << "the fake's frames change, so the held frame's bytes are tested";
+    EXPECT_EQ(cv::norm(held.image, held_copy, cv::NORM_INF), 0) << "the held frame kept its bytes";
+    EXPECT_EQ(pool.allocations(), allocations_streaming) << "streamed frames are carried by recycled buffers";
+    camera.stop();
+  }
+  {  // the camera loaded again: its stream buffers and frames reuse the first one's
+    AravisCamera camera(fakeSettings(), report);
+    camera.start();
+    CameraFrame f;
+    for (int i = 0; i < 10; ++i) ASSERT_TRUE(camera.next(f, test::scaledMs(2000)));
+    camera.stop();
+  }
+  EXPECT_EQ(pool.allocations(), allocations_streaming);
+  EXPECT_EQ(cv::norm(held.image, held_copy, cv::NORM_INF), 0);
 }
 
 TEST(AravisCamera, AutoExposureOnACameraWithoutItStreamsAtItsCurrentValueNamingTheFeature) {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/camera/camera_controls.h"
+#include "underwater_stereo/camera/pixel_buffer_pool.h"
 
 namespace underwater_stereo {
 namespace {
@@ -77,6 +78,9 @@ struct AravisCamera::Impl {
   std::atomic<bool> lost{false};
   std::string encoding;
   bool acquiring = false;
+  /// The stream buffers' memory, from the frame pool (Aravis does not free preallocated data); released after
+  /// the stream is unreferenced, in the destructor's body, so a camera loaded again reuses it.
+  std::vector<PixelBufferPool::Buffer> stream_storage;
 
   static void onControlLost(ArvDevice*, gpointer self) { static_cast<Impl*>(self)->lost = true; }
 
@@ -209,7 +213,10 @@ AravisCamera::AravisCamera(const CameraSettings& s, std::vector<std::string>& re
   }
   const guint payload = arv_camera_get_payload(impl_->camera, &error);
   check(error, "cannot read the payload size");
-  for (int i = 0; i < s.buffers; ++i) arv_stream_push_buffer(impl_->stream, arv_buffer_new_allocate(payload));
+  for (int i = 0; i < s.buffers; ++i) {
+    impl_->stream_storage.push_back(PixelBufferPool::frames().acquire(payload));
+    arv_stream_push_buffer(impl_->stream, arv_buffer_new(payload, impl_->stream_storage.back()->data()));
+  }
   report.push_back(std::to_string(s.buffers) + " stream buffers of " + std::to_string(payload) + " bytes, packet resend " +
                    (s.packet_resend ? "on" : "off"));
 }
@@ -250,8 +257,9 @@ bool AravisCamera::next(CameraFrame& frame, int timeout_ms) {
       arv_stream_push_buffer(impl_->stream, buffer);
       continue;
     }
-    // The one copy of the frame: into storage that can become the published message's data.
-    auto pixels = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(width) * height * CV_ELEM_SIZE(type));
+    // The one copy of the frame: into a recycled buffer (not zero-filled first) that can become the published
+    // message's data.
+    auto pixels = PixelBufferPool::frames().acquire(static_cast<std::size_t>(width) * height * CV_ELEM_SIZE(type));
     std::memcpy(pixels->data(), data, pixels->size());
     frame.image = cv::Mat(height, width, type, pixels->data());
     frame.pixels = std::move(pixels);

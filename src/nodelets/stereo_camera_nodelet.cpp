@@ -4,7 +4,6 @@
 // (two GigE Vision cameras; calibration from camera_info_manager, diagnostics per camera, exposure/gain/rate
 // while streaming through dynamic_reconfigure, and per side and frame a FrameMetadata on <side>/frame_metadata).
 #include <camera_info_manager/camera_info_manager.h>
-#include <cv_bridge/cv_bridge.h>
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
@@ -23,6 +22,7 @@
 #include "underwater_stereo/FrameMetadata.h"
 #include "underwater_stereo/StereoCameraConfig.h"
 #include "underwater_stereo/camera/aravis_stereo_source.h"
+#include "underwater_stereo/camera/pixel_buffer_pool.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
@@ -79,19 +79,28 @@ FrameMetadataPtr toMetadata(const FrameCapture& c, const std_msgs::Header& heade
   return m;
 }
 
-/// The image message; with `pixels` (real cameras) their storage becomes its data, so a frame is copied once
-/// in all (out of the camera's buffer), and in one manager the detector receives it without serialisation.
+/// The image message, its data one of the frame pool's buffers: a real camera's frame (copied once in all, out
+/// of the camera's buffer) or a copy of a simulated image. The buffer goes back to the pool when the message's
+/// last holder lets go (in one manager the detector receives the message itself, without serialisation), so
+/// image memory is recycled, not freed into the heap arena of whichever thread allocated it.
 sensor_msgs::ImagePtr toImage(const std_msgs::Header& header, const std::string& encoding, const cv::Mat& image,
-                              const std::shared_ptr<std::vector<std::uint8_t>>& pixels) {
-  if (!pixels) return cv_bridge::CvImage(header, encoding, image).toImageMsg();
-  auto m = boost::make_shared<sensor_msgs::Image>();
+                              PixelBufferPool::Buffer pixels) {
+  if (!pixels) {
+    pixels = PixelBufferPool::frames().acquire(image.total() * image.elemSize());
+    cv::Mat copy(image.rows, image.cols, image.type(), pixels->data());
+    image.copyTo(copy);
+  }
+  sensor_msgs::ImagePtr m(new sensor_msgs::Image, [pixels](sensor_msgs::Image* done) {
+    pixels->swap(done->data);  // the pixels back into the pool's buffer, released with this deleter
+    delete done;
+  });
   m->header = header;
   m->encoding = encoding;
   m->height = static_cast<std::uint32_t>(image.rows);
   m->width = static_cast<std::uint32_t>(image.cols);
   m->step = static_cast<std::uint32_t>(image.cols * image.elemSize());
   m->is_bigendian = 0;
-  m->data = std::move(*pixels);
+  m->data.swap(*pixels);
   return m;
 }
 
@@ -165,7 +174,9 @@ class StereoCameraNodelet : public nodelet::Nodelet {
                         << calibration_.left.height << ", baseline " << calibration_.baselineM() << " m, f "
                         << calibration_.focalPx() << " px) rate_hz=" << sim_config.rate_hz
                         << " loop_frames=" << sim_config.loop_frames << " frame_id=" << frame_id_);
-    source_ = std::make_unique<sim::SimStereoSource>(renderer, sim_config);
+    source_ = std::make_unique<sim::SimStereoSource>(renderer, sim_config, [this](const std::string& message) {
+      NODELET_ERROR_STREAM_THROTTLE(5.0, "StereoCameraNodelet: " << message);
+    });
   }
 
   /// Reads <side>/... camera parameters (shared defaults from the private namespace).

@@ -20,8 +20,9 @@ std::vector<std::string> SimSourceConfig::validate() const {
   return problems;
 }
 
-SimStereoSource::SimStereoSource(std::shared_ptr<const Renderer> renderer, const SimSourceConfig& config)
-    : renderer_(std::move(renderer)), config_(config) {
+SimStereoSource::SimStereoSource(std::shared_ptr<const Renderer> renderer, const SimSourceConfig& config,
+                                 ErrorLog log_error)
+    : renderer_(std::move(renderer)), config_(config), log_error_(std::move(log_error)) {
   if (!renderer_) throw std::invalid_argument("SimStereoSource: no renderer");
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid simulated source config", problems));
@@ -56,7 +57,12 @@ cv::Mat SimStereoSource::cacheImage(std::uint64_t scene_index, int side, const c
   if (loop_images_.empty()) loop_images_.create(2 * config_.loop_frames * image.rows, image.cols, image.type());
   if (image.cols != loop_images_.cols || image.type() != loop_images_.type() ||
       2 * config_.loop_frames * image.rows != loop_images_.rows) {
-    throw std::logic_error("SimStereoSource: the renderer's images changed size or type within the loop");
+    throw std::runtime_error("SimStereoSource: the render of loop frame " + std::to_string(scene_index) + " is " +
+                             std::to_string(image.cols) + "x" + std::to_string(image.rows) + " of OpenCV type " +
+                             std::to_string(image.type()) + ", the loop's images are " +
+                             std::to_string(loop_images_.cols) + "x" +
+                             std::to_string(loop_images_.rows / (2 * config_.loop_frames)) + " of type " +
+                             std::to_string(loop_images_.type()) + "; the pair is not delivered");
   }
   const int first_row = static_cast<int>(2 * scene_index + side) * image.rows;
   cv::Mat slot = loop_images_.rowRange(first_row, first_row + image.rows);
@@ -87,12 +93,18 @@ void SimStereoSource::run(FrameCallback callback) {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / config_.rate_hz));
   auto next = Clock::now();
   for (std::uint64_t sequence = 0;; ++sequence) {
-    const StereoFrame pair = frame(sequence);
+    StereoFrame pair;
+    try {
+      pair = frame(sequence);
+    } catch (const std::exception& e) {  // one pair lost, reported; the source goes on
+      if (log_error_) log_error_(e.what());
+      pair = StereoFrame();
+    }
     {
       std::unique_lock<std::mutex> lock(mutex_);
       if (wake_.wait_until(lock, next, [this] { return !running_; })) return;
     }
-    callback(pair);
+    if (!pair.left.empty()) callback(pair);
     next += period;
     // Behind by more than a period (slow live rendering): restart the schedule instead of bursting.
     if (Clock::now() > next + period) next = Clock::now();

@@ -40,8 +40,9 @@ struct StereoFrame {
   std::vector<sim::GroundTruthObject> ground_truth;
   /// The simulated source only: the left optical frame's true pose in the scene's world frame.
   std::optional<Eigen::Isometry3d> camera_pose_world;
-  /// Real cameras only: the storage behind `left` and `right` (one copy out of the camera's buffer). The
-  /// receiver may move it into its message instead of copying; `left` and `right` must not be read after that.
+  /// Real cameras only: the storage behind `left` and `right` (one copy out of the camera's buffer, into a
+  /// PixelBufferPool buffer). The receiver may swap it into its message instead of copying (and back when the
+  /// message is done, so the buffer is recycled); `left` and `right` must not be read while it is swapped out.
   std::shared_ptr<std::vector<std::uint8_t>> left_pixels, right_pixels;
   /// Real cameras only: how each frame was taken.
   std::optional<FrameCapture> left_capture, right_capture;
