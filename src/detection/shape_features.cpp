@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/shape_features.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/detection/candidate_finder.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// Object pixels sampled on a grid to about this many for the shading fits.
+constexpr int kShadingSamples = 2000;
+
+/// Shares of the grey-level variance explained by a linear ramp, and by curvatures along and across the
+/// outline's long axis (`axis`: unit direction in the image, `centre`: the region's centroid, roi pixels).
+void shadingFits(const cv::Mat& grey, const cv::Mat& mask, const cv::Point2d& centre, const cv::Point2d& axis,
+                 OutlineCues& cues) {
+  constexpr int kTerms = 5;  // 1, s, t, s^2, t^2 (s along the axis, t across)
+  const int step = std::max(1, static_cast<int>(std::sqrt(double(cv::countNonZero(mask > 127)) / kShadingSamples)));
+  const double scale = std::max(1.0, 0.5 * std::max(grey.cols, grey.rows));
+  std::vector<cv::Vec<double, kTerms>> rows;
+  std::vector<double> values;
+  double sum = 0, sum2 = 0;
+  for (int v = 0; v < grey.rows; v += step) {
+    for (int u = 0; u < grey.cols; u += step) {
+      if (mask.at<std::uint8_t>(v, u) <= 127) continue;
+      const double dx = (u - centre.x) / scale, dy = (v - centre.y) / scale;
+      const double s = dx * axis.x + dy * axis.y, t = -dx * axis.y + dy * axis.x, g = grey.at<std::uint8_t>(v, u);
+      rows.emplace_back(1, s, t, s * s, t * t);
+      values.push_back(g);
+      sum += g;
+      sum2 += g * g;
+    }
+  }
+  const double n = static_cast<double>(values.size());
+  if (n < 12 || sum <= 0) return;
+  const double mean = sum / n, variance = std::max(0.0, sum2 / n - mean * mean);
+  cues.shading_spread = std::sqrt(variance) / mean;
+  if (variance < 1e-6) return;
+  // Share of the variance explained by the terms in `use` (least squares).
+  auto explained = [&](std::initializer_list<int> use) {
+    const int k = static_cast<int>(use.size());
+    cv::Mat ata = cv::Mat::zeros(k, k, CV_64F), atb = cv::Mat::zeros(k, 1, CV_64F), x;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      int a = 0;
+      for (int p : use) {
+        int b = 0;
+        for (int q : use) ata.at<double>(a, b++) += rows[i][p] * rows[i][q];
+        atb.at<double>(a++) += rows[i][p] * values[i];
+      }
+    }
+    if (!cv::solve(ata, atb, x, cv::DECOMP_SVD)) return 0.0;
+    double residual = 0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      double model = 0;
+      int a = 0;
+      for (int p : use) model += rows[i][p] * x.at<double>(a++);
+      residual += (values[i] - model) * (values[i] - model);
+    }
+    return std::clamp(1.0 - residual / n / variance, 0.0, 1.0);
+  };
+  cues.shading_linear = explained({0, 1, 2});
+  const double full = explained({0, 1, 2, 3, 4});
+  cues.shading_along = std::max(0.0, full - explained({0, 1, 2, 4}));
+  cues.shading_across = std::max(0.0, full - explained({0, 1, 2, 3}));
+}
+
+}  // namespace
+
+OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame) {
+  if (c.contour.size() < 3) throw std::invalid_argument("outlineCues: contour of fewer than 3 points");
+  if (bgr_roi.type() != CV_8UC3 || bgr_roi.size() != c.roi.size() || c.mask.size() != c.roi.size() ||
+      c.mask.type() != CV_8UC1) {
+    throw std::invalid_argument("outlineCues: image and mask must be BGR8 and CV_8U of the candidate's roi size");
+  }
+  OutlineCues cues;
+  cues.outline = c.outline;
+  cues.face_contrast = c.face_contrast;
+  const double area = cv::contourArea(c.contour), perimeter = cv::arcLength(c.contour, true);
+  std::vector<cv::Point> hull, corners;
+  cv::convexHull(c.contour, hull);
+  const double hull_area = cv::contourArea(hull);
+  cues.solidity = hull_area > 0 ? area / hull_area : 1.0;
+  cues.circularity = perimeter > 0 ? 4 * M_PI * area / (perimeter * perimeter) : 0.0;
+  const cv::RotatedRect box = cv::minAreaRect(c.contour);
+  const double long_side = std::max(box.size.width, box.size.height), short_side = std::min(box.size.width, box.size.height);
+  cues.aspect = long_side / std::max(1.0, short_side);
+  cues.rect_fill = box.size.area() > 0 ? area / box.size.area() : 1.0;
+  cv::approxPolyDP(c.contour, corners, 0.02 * perimeter, true);
+  cues.corners = static_cast<double>(corners.size());
+  int on_border = 0;
+  for (const cv::Point& p : c.contour) {
+    on_border += p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2;
+  }
+  cues.border_share = double(on_border) / c.contour.size();
+  cues.area_px = area;
+  // The long axis from the contour's second moments (the rotated rectangle's angle is ambiguous for squares).
+  const cv::Moments m = cv::moments(c.contour);
+  cv::Point2d centre(c.roi.width / 2.0, c.roi.height / 2.0), axis(1, 0);
+  if (m.m00 > 0) {
+    centre = cv::Point2d(m.m10 / m.m00 - c.roi.x, m.m01 / m.m00 - c.roi.y);
+    const double angle = 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02);
+    axis = cv::Point2d(std::cos(angle), std::sin(angle));
+  }
+  cv::Mat grey;
+  cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
+  shadingFits(grey, c.mask, centre, axis, cues);
+  return cues;
+}
+
+const std::vector<std::string>& shapeFeatureNames() {
+  static const std::vector<std::string> names{
+      "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "log_face_contrast",
+      "shading_spread", "shading_linear", "shading_along", "shading_across", "log_area_px", "plane_structure", "sphere_structure",
+      "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
+      "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "curvature_along", "curvature_across", "log_points", "range_m"};
+  return names;
+}
+
+}  // namespace underwater_stereo
