@@ -164,15 +164,14 @@ TEST(OutlineCues, OutlineAndShadingOfKnownRegions) {
   EXPECT_NEAR(round.rect_fill, M_PI / 4, 0.03);
   EXPECT_NEAR(round.aspect, 1.0, 0.03);
   EXPECT_EQ(round.border_share, 0.0);
-  EXPECT_GT(round.shading_along + round.shading_across, 0.9);
-  EXPECT_NEAR(round.shading_along, round.shading_across, 0.1);
+  EXPECT_GT(round.shading_quadratic, 0.9);
   const Candidate panel = candidateOf(square, bgr, [](int u, int) { return 50 + 0.5 * u; });
   const OutlineCues flat = outlineCues(panel, bgr, square.size());
   EXPECT_NEAR(flat.rect_fill, 1.0, 0.03);
   EXPECT_NEAR(flat.aspect, 2.0, 0.05);
   EXPECT_EQ(flat.corners, 4.0);
   EXPECT_GT(flat.shading_linear, 0.98);
-  EXPECT_LT(flat.shading_along + flat.shading_across, 0.02);
+  EXPECT_LT(flat.shading_quadratic, 0.02);
   // A region cut by the image border says so.
   EXPECT_GT(outlineCues(panel, bgr, cv::Size(300, 250)).border_share, 0.2);
   EXPECT_THROW(outlineCues(panel, cv::Mat(10, 10, CV_8UC3), square.size()), std::invalid_argument);
@@ -195,8 +194,7 @@ TEST(ShapeModel, KnownCloudsAreNamedRightByTheShippedModel) {
   ball.rect_fill = M_PI / 4;
   ball.corners = 8;
   ball.shading_spread = 0.15;
-  ball.shading_along = 0.3;
-  ball.shading_across = 0.3;
+  ball.shading_quadratic = 0.6;
   OutlineCues panel{OutlineKind::kRectangle, 1.0};
   panel.circularity = M_PI / 4;
   panel.corners = 4;
@@ -207,7 +205,7 @@ TEST(ShapeModel, KnownCloudsAreNamedRightByTheShippedModel) {
   tube.circularity = 0.45;
   tube.corners = 4;
   tube.shading_spread = 0.12;
-  tube.shading_across = 0.5;
+  tube.shading_quadratic = 0.5;
   OutlineCues box{OutlineKind::kPolygon, 80.0};
   box.circularity = 0.75;
   box.rect_fill = 0.8;

@@ -15,11 +15,9 @@ namespace {
 /// Object pixels sampled on a grid to about this many for the shading fits.
 constexpr int kShadingSamples = 2000;
 
-/// Shares of the grey-level variance explained by a linear ramp, and by curvatures along and across the
-/// outline's long axis (`axis`: unit direction in the image, `centre`: the region's centroid, roi pixels).
-void shadingFits(const cv::Mat& grey, const cv::Mat& mask, const cv::Point2d& centre, const cv::Point2d& axis,
-                 OutlineCues& cues) {
-  constexpr int kTerms = 5;  // 1, s, t, s^2, t^2 (s along the axis, t across)
+/// Shares of the grey-level variance explained by a linear ramp and, beyond it, by a quadratic surface.
+void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
+  constexpr int kTerms = 6;  // 1, x, y, x^2, y^2, xy
   const int step = std::max(1, static_cast<int>(std::sqrt(double(cv::countNonZero(mask > 127)) / kShadingSamples)));
   const double scale = std::max(1.0, 0.5 * std::max(grey.cols, grey.rows));
   std::vector<cv::Vec<double, kTerms>> rows;
@@ -28,9 +26,8 @@ void shadingFits(const cv::Mat& grey, const cv::Mat& mask, const cv::Point2d& ce
   for (int v = 0; v < grey.rows; v += step) {
     for (int u = 0; u < grey.cols; u += step) {
       if (mask.at<std::uint8_t>(v, u) <= 127) continue;
-      const double dx = (u - centre.x) / scale, dy = (v - centre.y) / scale;
-      const double s = dx * axis.x + dy * axis.y, t = -dx * axis.y + dy * axis.x, g = grey.at<std::uint8_t>(v, u);
-      rows.emplace_back(1, s, t, s * s, t * t);
+      const double x = (u - grey.cols / 2.0) / scale, y = (v - grey.rows / 2.0) / scale, g = grey.at<std::uint8_t>(v, u);
+      rows.emplace_back(1, x, y, x * x, y * y, x * y);
       values.push_back(g);
       sum += g;
       sum2 += g * g;
@@ -64,9 +61,7 @@ void shadingFits(const cv::Mat& grey, const cv::Mat& mask, const cv::Point2d& ce
     return std::clamp(1.0 - residual / n / variance, 0.0, 1.0);
   };
   cues.shading_linear = explained({0, 1, 2});
-  const double full = explained({0, 1, 2, 3, 4});
-  cues.shading_along = std::max(0.0, full - explained({0, 1, 2, 4}));
-  cues.shading_across = std::max(0.0, full - explained({0, 1, 2, 3}));
+  cues.shading_quadratic = std::max(0.0, explained({0, 1, 2, 3, 4, 5}) - cues.shading_linear);
 }
 
 }  // namespace
@@ -97,27 +92,18 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
     on_border += p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2;
   }
   cues.border_share = double(on_border) / c.contour.size();
-  cues.area_px = area;
-  // The long axis from the contour's second moments (the rotated rectangle's angle is ambiguous for squares).
-  const cv::Moments m = cv::moments(c.contour);
-  cv::Point2d centre(c.roi.width / 2.0, c.roi.height / 2.0), axis(1, 0);
-  if (m.m00 > 0) {
-    centre = cv::Point2d(m.m10 / m.m00 - c.roi.x, m.m01 / m.m00 - c.roi.y);
-    const double angle = 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02);
-    axis = cv::Point2d(std::cos(angle), std::sin(angle));
-  }
   cv::Mat grey;
   cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
-  shadingFits(grey, c.mask, centre, axis, cues);
+  shadingFits(grey, c.mask, cues);
   return cues;
 }
 
 const std::vector<std::string>& shapeFeatureNames() {
   static const std::vector<std::string> names{
       "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "log_face_contrast",
-      "shading_spread", "shading_linear", "shading_along", "shading_across", "log_area_px", "plane_structure", "sphere_structure",
+      "shading_spread", "shading_linear", "shading_quadratic", "plane_structure", "sphere_structure",
       "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
-      "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "curvature_along", "curvature_across", "log_points", "range_m"};
+      "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};
   return names;
 }
 

@@ -356,30 +356,6 @@ float relative(double value_m, double range) {
   return static_cast<float>(std::isfinite(value_m) ? std::min(1.0, value_m / range) : 1.0);
 }
 
-/// How far the points curve towards the camera along and across their main axis: a quadratic surface
-/// r = a + b s + c t + e s^2 + f t^2 over the plane of the first two principal axes (s, t; r along `towards`, the
-/// normal facing the camera), as sagittas e * hs and f * ht over half-extents hs, ht: -0.5 for a sphere's
-/// cap both ways, across only for a tube lying along s, ~0 for a flat face.
-Eigen::Vector2d sagittas(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& towards) {
-  Eigen::Matrix<double, 5, 5> ata = Eigen::Matrix<double, 5, 5>::Zero();
-  Eigen::Matrix<double, 5, 1> atb = Eigen::Matrix<double, 5, 1>::Zero();
-  double s0 = 0, s1 = 0, t0 = 0, t1 = 0;
-  for (const auto& q : pts) {
-    const Eigen::Vector3d d = q - p.mean;
-    const double s = p.axes.col(0).dot(d), t = p.axes.col(1).dot(d);
-    s0 = std::min(s0, s);
-    s1 = std::max(s1, s);
-    t0 = std::min(t0, t);
-    t1 = std::max(t1, t);
-    Eigen::Matrix<double, 5, 1> a;
-    a << 1, s, t, s * s, t * t;
-    ata += a * a.transpose();
-    atb += a * towards.dot(d);
-  }
-  const Eigen::Matrix<double, 5, 1> x = ata.ldlt().solve(atb);
-  return {x[3] * (s1 - s0) / 2, x[4] * (t1 - t0) / 2};
-}
-
 /// The features of shapeFeatureNames(): the outline and shading cues, then the fits' evidence.
 std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const OutlineCues& cues,
                                  const Scored& plane, const Scored& sphere, const Scored& cylinder, double elongation) {
@@ -409,7 +385,6 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
   const std::size_t half = radial.size() / 2;
   for (std::size_t i = 0; i < radial.size(); ++i) (i < half ? inner : outer) += radial[i].second;
   const double bulge = (inner / std::max<std::size_t>(1, half) - outer / std::max<std::size_t>(1, radial.size() - half)) / range;
-  const Eigen::Vector2d curvature = sagittas(pts, p, n);
   // Shares of the points on the dominant plane and on it and the next one (a box's faces).
   const double tolerance = kBoxFaceTolerance * range;
   const DominantPlane first = dominantPlane(pts, tolerance, p.axes.col(2));
@@ -429,9 +404,7 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
           static_cast<float>(std::log1p(std::max(0.0, cues.face_contrast))),
           static_cast<float>(cues.shading_spread),
           static_cast<float>(cues.shading_linear),
-          static_cast<float>(cues.shading_along),
-          static_cast<float>(cues.shading_across),
-          static_cast<float>(std::log1p(std::max(0.0, cues.area_px))),
+          static_cast<float>(cues.shading_quadratic),
           relative(plane.structure_m, range),
           relative(sphere.structure_m, range),
           relative(cylinder.structure_m, range),
@@ -447,8 +420,6 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
           static_cast<float>(first.inliers / total),
           static_cast<float>((first.inliers + second) / total),
           static_cast<float>(std::clamp(bulge, -1.0, 1.0)),
-          static_cast<float>(std::clamp(curvature.x(), -5.0, 5.0)),
-          static_cast<float>(std::clamp(curvature.y(), -5.0, 5.0)),
           static_cast<float>(std::log(total)),
           static_cast<float>(range)};
 }

@@ -23,7 +23,6 @@
 #include "random_evaluation.h"
 #include "tool_helpers.h"
 #include "underwater_stereo/detection/detector.h"
-#include "underwater_stereo/detection/shape_model.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
 
@@ -34,15 +33,14 @@ using namespace underwater_stereo;
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
-    "                         [--json FILE] [--worst K DIR] [--learn-shapes MODEL]\n"
+    "                         [--json FILE] [--worst K DIR]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--size WxH]\n"
     "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
     "    prints recall, colour and shape right, range and position errors and false detections per frame,\n"
     "    overall and by range, turbidity, water, brightness, colour and shape; --jobs J pairs at once;\n"
-    "    --json FILE: every object and false detection; --worst K DIR: the K worst failures' left images;\n"
-    "    --learn-shapes MODEL: a shape model (shape.model_file) learnt from the objects found, with their true\n"
-    "    shapes, written to MODEL (e.g. config/detector.shape_model.yml.gz).\n"
+    "    --json FILE: every object (with the shape features of its detection: what learn_shapes learns from)\n"
+    "    and false detection; --worst K DIR: the K worst failures' left images.\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
 
@@ -175,31 +173,9 @@ struct RandomOptions {
   int pairs = 0;
   std::uint64_t seed = 1000;
   int jobs = 1;
-  std::string json_path, worst_dir, shape_model_path;
+  std::string json_path, worst_dir;
   std::size_t worst = 0;
 };
-
-/// Learns a shape model from the eligible objects found in `records` (their shape features and true shapes) and
-/// writes it to `path`.
-void learnShapes(const std::vector<tools::PairRecord>& records, const std::string& path) {
-  cv::Mat samples(0, kShapeFeatureCount, CV_32F);
-  std::vector<ShapeKind> labels;
-  std::map<ShapeKind, int> counts;
-  for (const auto& p : records) {
-    for (const auto& o : p.objects) {
-      if (!o.eligible || !o.found || o.detected_shape_features.size() != static_cast<std::size_t>(kShapeFeatureCount)) {
-        continue;
-      }
-      samples.push_back(cv::Mat(1, kShapeFeatureCount, CV_32F, const_cast<float*>(o.detected_shape_features.data())));
-      labels.push_back(o.shape);
-      ++counts[o.shape];
-    }
-  }
-  ShapeModel::train(samples, labels, ShapeModelTraining{}).save(path);
-  std::cout << "\nShape model learnt from " << labels.size() << " objects (";
-  for (const auto& [shape, n] : counts) std::cout << " " << shape << " " << n;
-  std::cout << " ), written to " << path << "\n";
-}
 
 double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -284,9 +260,6 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
     if (!json) throw std::runtime_error("cannot write " + opt.json_path);
   }
   if (opt.worst > 0) std::filesystem::create_directories(opt.worst_dir);
-  if (!opt.shape_model_path.empty() && !std::ofstream(opt.shape_model_path, std::ios::app)) {
-    throw std::runtime_error("cannot write " + opt.shape_model_path);
-  }
   // One head for every scene: its pixel rays are computed once.
   const sim::Renderer head(sim::sampleScene(opt.seed, sampler).scene);
   const Detector detector(config, head.calibration());
@@ -343,7 +316,6 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
     }
     std::cout << rank << " worst failures written to " << opt.worst_dir << "\n";
   }
-  if (!opt.shape_model_path.empty()) learnShapes(records, opt.shape_model_path);
   return 0;
 }
 
@@ -397,7 +369,6 @@ int main(int argc, char** argv) {
       else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
       else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
       else if (a == "--json") random.json_path = value();
-      else if (a == "--learn-shapes") random.shape_model_path = value();
       else if (a == "--worst") {
         random.worst = static_cast<std::size_t>(integer(1, 100000));
         random.worst_dir = value();
@@ -416,9 +387,8 @@ int main(int argc, char** argv) {
     if (config_path.empty()) throw std::invalid_argument("--config is required");
     if (modes != 1) throw std::invalid_argument("give scene files, --random N or --paper-brightness (one of them)");
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1 || !random.shape_model_path.empty()) &&
-        random.pairs == 0) {
-      throw std::invalid_argument("--json, --worst, --jobs and --learn-shapes go with --random");
+    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1) && random.pairs == 0) {
+      throw std::invalid_argument("--json, --worst and --jobs go with --random");
     }
     const std::vector<std::string> problems = sampler.validate();
     if (!problems.empty()) throw std::invalid_argument(problems.front());

@@ -26,9 +26,7 @@ struct OutlineCues {
   double border_share = 0.0;  ///< share of the contour's points on the image border (a cut outline)
   double shading_spread = 0.0;     ///< grey-level standard deviation / mean over the object's pixels
   double shading_linear = 0.0;     ///< share of the grey-level variance a linear ramp across the region explains
-  double shading_along = 0.0;   ///< share of the variance only a curvature along the outline's long axis explains
-  double shading_across = 0.0;  ///< ...only one across it (a lit tube: across, not along; a ball: both)
-  double area_px = 0.0;         ///< contour area [pixels]
+  double shading_quadratic = 0.0;  ///< share a quadratic surface explains beyond the ramp (a lit ball's highlight)
 };
 
 /// The cues of candidate `c` (full-resolution contour and roi-sized mask) in the left image's `bgr_roi`
@@ -39,8 +37,8 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
 /// Number of features per object, and their names in order: the outline and shading cues, then the 3D
 /// fits' evidence (residuals of the plane, sphere and cylinder fits relative to range, principal extents,
 /// depth spread against the outline's width, dominant planes' shares, the bulge of the points towards the
-/// camera and their curvature along and across their main axis, point count, range).
-constexpr int kShapeFeatureCount = 32;
+/// camera, point count, range).
+constexpr int kShapeFeatureCount = 28;
 const std::vector<std::string>& shapeFeatureNames();
 
 }  // namespace underwater_stereo
