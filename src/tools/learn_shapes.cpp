@@ -29,7 +29,9 @@ void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
   }
-  if (!root["pairs"] || !root["pairs"].IsSequence()) throw std::invalid_argument(path + ": no \"pairs\" list");
+  if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
+    throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
+  }
   for (const YAML::Node& pair : root["pairs"]) {
     for (const YAML::Node& o : pair["objects"]) {
       if (!o["eligible"].as<bool>(false) || !o["found"].as<bool>(false)) continue;
