@@ -219,13 +219,14 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
   return out;
 }
 
-Detection describe2d(const Candidate& c, const RawFrame& left, const DetectorConfig& config) {
+/// `left_roi`: BGR8 of the raw left image over c.roi.
+Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const DetectorConfig& config) {
   Detection d;
   d.colour = config.colours.classes[c.colour_index].name;
   d.outline = c.outline;
   d.roi = c.roi;
   d.contour = c.contour;
-  d.measured_bgr = cv::mean(left.bgr(c.roi), c.mask);
+  d.measured_bgr = cv::mean(left_roi, c.mask);
   d.confidence = c.colour_fraction;
   return d;
 }
@@ -238,7 +239,7 @@ void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibra
   const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(calibration.left.R.val);
   const double z_rectified = (r * fit.centre).z();
   if (z_rectified <= 0) return;
-  double z_target = calibration.focalPx() * calibration.baselineM() / disparity;
+  double z_target = calibration.focalPx() * calibration.baselineM() / disparity + fit.hidden_depth_m;
   if (fit.shape == ShapeKind::kSphere) {
     // A sphere's outline is its tangent circle, R^2 / d in front of its centre (d: centre distance).
     const double radius = fit.size.x() / 2 * z_target / z_rectified, d = fit.centre.norm() * z_target / z_rectified;
@@ -290,7 +291,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
   result.rejected = front.rejected;
-  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame, config_));
+  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame.bgr(c.roi), config_));
   result.timings.total_ms = total.lapMs();
   return result;
 }
@@ -315,9 +316,10 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
                       std::to_string(roi_points.points.size()) + " matched)";
     return std::nullopt;
   }
-  Detection d = describe2d(c, left, config_);
+  const cv::Mat left_roi = left.bgr(c.roi);
+  Detection d = describe2d(c, left_roi, config_);
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
-  ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), OutlineCues{c.outline, c.face_contrast}, config_.shape);
+  ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), outlineCues(c, left_roi, left.size()), config_.shape);
   placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
   t.fit_ms += stage.lapMs();
   if (!fit.centre.allFinite() || !fit.size.allFinite()) {  // never report NaN
@@ -336,6 +338,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   d.size_m = fit.size;
   d.range_m = fit.centre.norm();
   d.fit_rmse_m = fit.rmse_m;
+  d.shape_features = std::move(fit.features);
   const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
   // Stereo noise grows with range: the fit residual is judged against 1 % of it.
   d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));

@@ -41,7 +41,7 @@ bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
 
 /// The YAML keys of `section` read by hand, besides its tunables.
 const std::map<std::string, std::vector<std::string>> kOtherKeys = {
-    {"candidates", {"source", "threshold", "dark_objects"}}};
+    {"candidates", {"source", "threshold", "dark_objects"}}, {"shape", {"model_file"}}};
 
 /// Reads the tunables of `section` (and, but at the top level, refuses keys that are neither one nor in
 /// kOtherKeys).
@@ -249,6 +249,17 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   }
   for (const char* section : {"stereo", "cluster", "shape"}) {
     if (const YAML::Node node = root[section]) readTunables(f, node, section, c);
+  }
+  if (const YAML::Node s = root["shape"]; s && s.IsMap()) {
+    f.optional(s, "model_file", "shape.", c.shape.model_file);
+    if (!c.shape.model_file.empty()) {
+      if (c.shape.model_file.front() != '/' && !base_dir.empty()) c.shape.model_file = base_dir + "/" + c.shape.model_file;
+      try {
+        c.shape.model = std::make_shared<const ShapeModel>(ShapeModel::load(c.shape.model_file));
+      } catch (const std::invalid_argument& e) {
+        f.fail(std::string("shape.model_file: ") + e.what());
+      }
+    }
   }
   if (c.candidates.source != ContourSource::kLearned) {
     for (const std::string& path : without_hue) {

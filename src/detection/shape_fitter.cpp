@@ -15,6 +15,8 @@ namespace {
 
 /// Box faces: RANSAC plane tolerance as a share of the object's range, iterations, seed.
 constexpr double kBoxFaceTolerance = 0.005;
+/// A box's extent along the line of sight under this share of its smaller visible side is a hidden depth.
+constexpr double kHiddenDepthShare = 0.3;
 constexpr int kRansacIterations = 100;
 constexpr unsigned kRansacSeed = 1;
 /// A plane is measured only where the line of sight meets it at more than ~14.5 degrees (|cos| of the angle
@@ -234,12 +236,18 @@ Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const 
   return scored;
 }
 
-/// Normal of the plane holding most points within `tolerance` (RANSAC, fixed seed: repeatable).
-Eigen::Vector3d dominantNormal(const std::vector<Eigen::Vector3d>& pts, double tolerance, const Eigen::Vector3d& fallback) {
+/// The plane holding most points within `tolerance` (RANSAC, fixed seed: repeatable).
+struct DominantPlane {
+  Eigen::Vector3d normal;
+  std::vector<bool> inlier;  ///< per point
+  std::size_t inliers = 0;
+};
+
+DominantPlane dominantPlane(const std::vector<Eigen::Vector3d>& pts, double tolerance, const Eigen::Vector3d& fallback) {
   std::mt19937 rng(kRansacSeed);
   std::uniform_int_distribution<std::size_t> pick(0, pts.size() - 1);
-  Eigen::Vector3d best = fallback;
-  std::size_t best_count = 0;
+  DominantPlane best{fallback, std::vector<bool>(pts.size(), false), 0};
+  Eigen::Vector3d best_point = Eigen::Vector3d::Zero();
   for (int it = 0; it < kRansacIterations; ++it) {
     const Eigen::Vector3d a = pts[pick(rng)], b = pts[pick(rng)], c = pts[pick(rng)];
     Eigen::Vector3d n = (b - a).cross(c - a);
@@ -247,10 +255,14 @@ Eigen::Vector3d dominantNormal(const std::vector<Eigen::Vector3d>& pts, double t
     n.normalize();
     std::size_t count = 0;
     for (const auto& q : pts) count += std::abs(n.dot(q - a)) < tolerance;
-    if (count > best_count) {
-      best_count = count;
-      best = n;
+    if (count > best.inliers) {
+      best.inliers = count;
+      best.normal = n;
+      best_point = a;
     }
+  }
+  for (std::size_t i = 0; i < pts.size() && best.inliers > 0; ++i) {
+    best.inlier[i] = std::abs(best.normal.dot(pts[i] - best_point)) < tolerance;
   }
   return best;
 }
@@ -263,7 +275,7 @@ Scored fitBox(const std::vector<Eigen::Vector3d>& pts, const Pca& p) {
   for (const auto& q : pts) ranges.push_back(q.norm());
   std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
   Eigen::Matrix3d axes;
-  axes.col(2) = dominantNormal(pts, kBoxFaceTolerance * ranges[ranges.size() / 2], p.axes.col(2));
+  axes.col(2) = dominantPlane(pts, kBoxFaceTolerance * ranges[ranges.size() / 2], p.axes.col(2)).normal;
   const Eigen::Vector3d e1 = axes.col(2).unitOrthogonal(), e2 = axes.col(2).cross(e1);
   std::vector<cv::Point2f> flat;
   for (const auto& q : pts) flat.emplace_back(static_cast<float>(q.dot(e1)), static_cast<float>(q.dot(e2)));
@@ -280,6 +292,19 @@ Scored fitBox(const std::vector<Eigen::Vector3d>& pts, const Pca& p) {
     const double lo = along[along.size() / 50], hi = along[along.size() - 1 - along.size() / 50];
     fit.centre += axes.col(a) * (lo + hi) / 2;
     fit.size[a] = hi - lo;
+  }
+  // Seen face-on, a box shows no side along its axis nearest the line of sight: its depth there is hidden. It
+  // is taken as the mean of the two visible sides (the centre goes half of it behind the face), not zero.
+  const Eigen::Vector3d view = p.mean.normalized();
+  int deep = 0;
+  for (int a = 1; a < 3; ++a) deep = std::abs(axes.col(a).dot(view)) > std::abs(axes.col(deep).dot(view)) ? a : deep;
+  const double side_a = fit.size[(deep + 1) % 3], side_b = fit.size[(deep + 2) % 3];
+  if (fit.size[deep] < kHiddenDepthShare * std::min(side_a, side_b)) {
+    const double hidden = (side_a + side_b) / 2;
+    const Eigen::Vector3d away = axes.col(deep) * (axes.col(deep).dot(view) >= 0 ? 1.0 : -1.0);
+    fit.centre += away * (hidden - fit.size[deep]) / 2;
+    fit.hidden_depth_m = std::abs(away.dot(view)) * (hidden - fit.size[deep]) / 2;
+    fit.size[deep] = hidden;
   }
   fit.orientation = Eigen::Quaterniond(axes);
   std::vector<double> residuals;  // distance to the nearest face
@@ -301,6 +326,102 @@ double outlineElongation(const std::vector<Eigen::Vector3d>& rays) {
   const auto [a0, a1] = span(flat, p.axes.col(0));
   const auto [b0, b1] = span(flat, p.axes.col(1));
   return (a1 - a0) / std::max(1e-9, b1 - b0);
+}
+
+/// The hand-made decision (no shape model): stereo smoothing flattens smooth curved surfaces, so the 2D outline
+/// decides close calls: a round outline is a sphere unless the plane is clearly better, anything else a plane
+/// unless the curve is. Flat faces of clearly different shading: a box, whatever its outline (a box seen
+/// corner-on is a hexagon, close to an ellipse). `curved`: the cylinder for an elongated outline, else the sphere.
+ShapeFit handMadeDecision(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const OutlineCues& cues,
+                          const ShapeFitConfig& config, const Scored& plane, const Scored& curved) {
+  const bool curved_ok = curved.fit.shape != ShapeKind::kUnknown && curved.fit.centre.allFinite();
+  if (cues.face_contrast >= config.box_face_contrast) return fitBox(pts, p).fit;
+  const bool round = cues.outline == OutlineKind::kCircle || cues.outline == OutlineKind::kEllipse;
+  const bool curved_wins = round ? curved.structure_m < plane.structure_m * config.plane_preference
+                                 : curved.structure_m * config.plane_preference < plane.structure_m;
+  if (curved_ok && curved_wins) return curved.fit;
+  if (plane.fit.shape != ShapeKind::kUnknown) return plane.fit;
+  if (curved_ok) return curved.fit;
+  ShapeFit unknown;
+  unknown.centre = p.mean;
+  for (int i = 0; i < 3; ++i) {
+    const auto [lo, hi] = span(pts, Eigen::Vector3d::Unit(i));
+    unknown.size[i] = hi - lo;
+  }
+  return unknown;
+}
+
+/// A fit's residual relative to `range`, 1 when the model could not be fitted.
+float relative(double value_m, double range) {
+  return static_cast<float>(std::isfinite(value_m) ? std::min(1.0, value_m / range) : 1.0);
+}
+
+/// The features of shapeFeatureNames(): the outline and shading cues, then the fits' evidence.
+std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const OutlineCues& cues,
+                                 const Scored& plane, const Scored& sphere, const Scored& cylinder, double elongation) {
+  std::vector<double> ranges;
+  for (const auto& q : pts) ranges.push_back(q.norm());
+  std::nth_element(ranges.begin(), ranges.begin() + ranges.size() / 2, ranges.end());
+  const double range = std::max(1e-3, ranges[ranges.size() / 2]);
+  const Eigen::Vector3d view = p.mean.normalized();
+  // Depth spread (10th to 90th percentile along the line of sight) against the outline's width at that range.
+  std::vector<double> depth;
+  for (const auto& q : pts) depth.push_back(q.dot(view));
+  std::sort(depth.begin(), depth.end());
+  const double spread = depth[depth.size() * 9 / 10] - depth[depth.size() / 10];
+  const double sphere_distance = sphere.fit.centre.norm(), radius = sphere.fit.size.x() / 2;
+  const double width = sphere_distance > 0 ? 2 * radius * range / sphere_distance : 0.0;
+  // The points' bulge towards the camera: plane residuals of the inner half (by distance from the centroid
+  // within the plane) minus the outer half's.
+  Eigen::Vector3d n = p.axes.col(2);
+  if (n.dot(p.mean) > 0) n = -n;
+  std::vector<std::pair<double, double>> radial;  // (distance in the plane, residual towards the camera)
+  for (const auto& q : pts) {
+    const Eigen::Vector3d d = q - p.mean;
+    radial.emplace_back((d - n.dot(d) * n).norm(), n.dot(d));
+  }
+  std::sort(radial.begin(), radial.end());
+  double inner = 0, outer = 0;
+  const std::size_t half = radial.size() / 2;
+  for (std::size_t i = 0; i < radial.size(); ++i) (i < half ? inner : outer) += radial[i].second;
+  const double bulge = (inner / std::max<std::size_t>(1, half) - outer / std::max<std::size_t>(1, radial.size() - half)) / range;
+  // Shares of the points on the dominant plane and on it and the next one (a box's faces).
+  const double tolerance = kBoxFaceTolerance * range;
+  const DominantPlane first = dominantPlane(pts, tolerance, p.axes.col(2));
+  std::vector<Eigen::Vector3d> rest;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (!first.inlier[i]) rest.push_back(pts[i]);
+  }
+  const std::size_t second = rest.size() >= 3 ? dominantPlane(rest, tolerance, p.axes.col(2)).inliers : 0;
+  const double total = static_cast<double>(pts.size());
+  return {static_cast<float>(cues.outline),
+          static_cast<float>(cues.solidity),
+          static_cast<float>(cues.circularity),
+          static_cast<float>(std::min(cues.aspect, 50.0)),
+          static_cast<float>(cues.rect_fill),
+          static_cast<float>(std::min(cues.corners, 50.0)),
+          static_cast<float>(cues.border_share),
+          static_cast<float>(std::log1p(std::max(0.0, cues.face_contrast))),
+          static_cast<float>(cues.shading_spread),
+          static_cast<float>(cues.shading_linear),
+          static_cast<float>(cues.shading_quadratic),
+          relative(plane.structure_m, range),
+          relative(sphere.structure_m, range),
+          relative(cylinder.structure_m, range),
+          relative(plane.fit.shape == ShapeKind::kUnknown ? NAN : plane.fit.rmse_m, range),
+          relative(sphere.fit.rmse_m, range),
+          relative(cylinder.fit.shape == ShapeKind::kUnknown ? NAN : cylinder.fit.rmse_m, range),
+          static_cast<float>(std::sqrt(p.variance[1] / std::max(1e-12, p.variance[0]))),
+          static_cast<float>(std::sqrt(p.variance[2] / std::max(1e-12, p.variance[0]))),
+          static_cast<float>(width > 0 ? std::min(5.0, spread / width) : 5.0),
+          static_cast<float>(radius > 0 ? std::clamp((sphere_distance - range) / radius, -5.0, 5.0) : 0.0),
+          static_cast<float>(std::min(elongation, 50.0)),
+          static_cast<float>(std::abs(n.dot(view))),
+          static_cast<float>(first.inliers / total),
+          static_cast<float>((first.inliers + second) / total),
+          static_cast<float>(std::clamp(bulge, -1.0, 1.0)),
+          static_cast<float>(std::log(total)),
+          static_cast<float>(range)};
 }
 
 }  // namespace
@@ -330,20 +451,21 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
 
   const Scored plane = fitPlane(pts, p, outline_rays);
-  const Scored curved = outlineElongation(outline_rays) >= config.min_elongation ? fitCylinder(pts, p, outline_rays)
-                                                                                 : fitSphere(pts, outline_rays);
-  const bool curved_ok = curved.fit.shape != ShapeKind::kUnknown && curved.fit.centre.allFinite();
-  // Stereo smoothing flattens smooth curved surfaces, so the 2D outline decides close calls: a round
-  // outline is a sphere unless the plane is clearly better, anything else a plane unless the curve is.
-  // Flat faces of clearly different shading: a box, whatever its outline (a box seen corner-on is a
-  // hexagon, close to an ellipse).
-  if (cues.face_contrast >= config.box_face_contrast) return fitBox(pts, p).fit;
-  const bool round = cues.outline == OutlineKind::kCircle || cues.outline == OutlineKind::kEllipse;
-  const bool curved_wins = round ? curved.structure_m < plane.structure_m * config.plane_preference
-                                 : curved.structure_m * config.plane_preference < plane.structure_m;
-  if (curved_ok && curved_wins) return curved.fit;
-  if (plane.fit.shape != ShapeKind::kUnknown) return plane.fit;
-  return curved_ok ? curved.fit : unknown;
+  const Scored sphere = fitSphere(pts, outline_rays);
+  const Scored cylinder = fitCylinder(pts, p, outline_rays);
+  const double elongation = outlineElongation(outline_rays);
+  std::vector<float> features = shapeFeatures(pts, p, cues, plane, sphere, cylinder, elongation);
+  for (float& f : features) f = std::isfinite(f) ? f : 0.0f;  // a degenerate fit says nothing; never NaN to the model
+  auto usable = [](const Scored& s) { return s.fit.shape != ShapeKind::kUnknown && s.fit.centre.allFinite(); };
+  ShapeFit chosen = unknown;
+  const ShapeKind learnt = config.model ? config.model->classify(features).shape : ShapeKind::kUnknown;
+  if (learnt == ShapeKind::kBox) chosen = fitBox(pts, p).fit;
+  else if (learnt == ShapeKind::kPlane && usable(plane)) chosen = plane.fit;
+  else if (learnt == ShapeKind::kSphere && usable(sphere)) chosen = sphere.fit;
+  else if (learnt == ShapeKind::kCylinder && usable(cylinder)) chosen = cylinder.fit;
+  else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere);
+  chosen.features = std::move(features);
+  return chosen;
 }
 
 }  // namespace underwater_stereo

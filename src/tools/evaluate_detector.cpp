@@ -39,7 +39,8 @@ const char* kUsage =
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
     "    prints recall, colour and shape right, range and position errors and false detections per frame,\n"
     "    overall and by range, turbidity, water, brightness, colour and shape; --jobs J pairs at once;\n"
-    "    --json FILE: every object and false detection; --worst K DIR: the K worst failures' left images.\n"
+    "    --json FILE: every object (with the shape features of its detection: what learn_shapes learns from)\n"
+    "    and false detection; --worst K DIR: the K worst failures' left images.\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
 

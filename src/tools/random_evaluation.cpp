@@ -198,6 +198,7 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
       o.detected_roi = d.roi;
       o.range_error = std::abs(d.range_m - o.range_m) / o.range_m;
       o.position_error = (d.position_m - o.centre_m).norm() / o.range_m;
+      o.detected_shape_features = d.shape_features;
       continue;
     }
     rec.false_detections.push_back({d.colour, d.shape, best >= 0 ? rec.objects[best].name : "", d.roi, d.range_m});
@@ -259,7 +260,11 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
             << ", \"shape\": " << quoted(shapeName(o.detected_shape))
             << ", \"range_m\": " << number(o.detected_range_m) << ", \"centre_m\": " << vec(o.detected_centre_m)
             << ", \"roi\": " << rect(o.detected_roi) << ", \"range_error\": " << number(o.range_error)
-            << ", \"position_error\": " << number(o.position_error) << "}";
+            << ", \"position_error\": " << number(o.position_error) << ", \"shape_features\": [";
+        for (std::size_t f = 0; f < o.detected_shape_features.size(); ++f) {
+          out << (f ? ", " : "") << number(o.detected_shape_features[f]);
+        }
+        out << "]}";
       }
       out << "}";
     }

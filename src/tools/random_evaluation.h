@@ -41,6 +41,7 @@ struct ObjectRecord {
   cv::Rect detected_roi;
   double range_error = 0.0;         ///< |range - true| / true range (found only)
   double position_error = 0.0;      ///< |centre - true centre| / true range (found only)
+  std::vector<float> detected_shape_features;  ///< Detection::shape_features (what learn-shapes trains on)
 };
 
 /// A detection that is no eligible designated object (background, a distractor, a second detection of one object).

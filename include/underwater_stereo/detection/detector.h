@@ -33,6 +33,7 @@ struct Detection {
   double confidence = 0.0;            ///< 0-1
   std::vector<Eigen::Vector3f> points;  ///< the object's cluster [m]
   double fit_rmse_m = 0.0;
+  std::vector<float> shape_features;  ///< what the shape was decided from (shapeFeatureNames()); empty: too few points
 };
 
 /// Time per stage of the last call [ms]; the per-object stages (rectify: silhouette disparity and band

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+/// @file What an object's outline and shading say about its shape (OutlineCues), and the names of the features a
+/// shape model (shape_model.h) decides from: these 2D cues and the 3D fits' evidence (shape_fitter.h).
+
+#include <opencv2/core.hpp>
+
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/outline_kind.h"
+
+namespace underwater_stereo {
+
+struct Candidate;
+
+/// What the 2D image says about the shape. Defaults: a clean, unshaded, uncut outline.
+struct OutlineCues {
+  OutlineKind outline = OutlineKind::kPolygon;  ///< the contour's class (classifyOutline)
+  double face_contrast = 0.0;                   ///< Candidate::face_contrast: flat faces of different shading
+  double solidity = 1.0;      ///< contour area / its convex hull's
+  double circularity = 1.0;   ///< 4 pi area / perimeter^2 (1: a circle)
+  double aspect = 1.0;        ///< long / short side of the tightest rotated rectangle
+  double rect_fill = 1.0;     ///< contour area / that rectangle's area (1: a rectangle, pi/4: an ellipse)
+  double corners = 0.0;       ///< vertices of the contour simplified to 2 % of its perimeter
+  double border_share = 0.0;  ///< share of the contour's points on the image border (a cut outline)
+  double shading_spread = 0.0;     ///< grey-level standard deviation / mean over the object's pixels
+  double shading_linear = 0.0;     ///< share of the grey-level variance a linear ramp across the region explains
+  double shading_quadratic = 0.0;  ///< share a quadratic surface explains beyond the ramp (a lit ball's highlight)
+};
+
+/// The cues of candidate `c` (full-resolution contour and roi-sized mask) in the left image's `bgr_roi`
+/// (BGR8 of c.roi) of a frame of `frame` size. @throw std::invalid_argument when bgr_roi is not c.roi's size
+/// and BGR8, or the contour has fewer than 3 points.
+OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame);
+
+/// Number of features per object, and their names in order: the outline and shading cues, then the 3D
+/// fits' evidence (residuals of the plane, sphere and cylinder fits relative to range, principal extents,
+/// depth spread against the outline's width, dominant planes' shares, the bulge of the points towards the
+/// camera, point count, range).
+constexpr int kShapeFeatureCount = 28;
+const std::vector<std::string>& shapeFeatureNames();
+
+}  // namespace underwater_stereo

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/shape_features.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/detection/candidate_finder.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// Object pixels sampled on a grid to about this many for the shading fits.
+constexpr int kShadingSamples = 2000;
+
+/// Shares of the grey-level variance explained by a linear ramp and, beyond it, by a quadratic surface.
+void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
+  constexpr int kTerms = 6;  // 1, x, y, x^2, y^2, xy
+  const int step = std::max(1, static_cast<int>(std::sqrt(double(cv::countNonZero(mask > 127)) / kShadingSamples)));
+  const double scale = std::max(1.0, 0.5 * std::max(grey.cols, grey.rows));
+  std::vector<cv::Vec<double, kTerms>> rows;
+  std::vector<double> values;
+  double sum = 0, sum2 = 0;
+  for (int v = 0; v < grey.rows; v += step) {
+    for (int u = 0; u < grey.cols; u += step) {
+      if (mask.at<std::uint8_t>(v, u) <= 127) continue;
+      const double x = (u - grey.cols / 2.0) / scale, y = (v - grey.rows / 2.0) / scale, g = grey.at<std::uint8_t>(v, u);
+      rows.emplace_back(1, x, y, x * x, y * y, x * y);
+      values.push_back(g);
+      sum += g;
+      sum2 += g * g;
+    }
+  }
+  const double n = static_cast<double>(values.size());
+  if (n < 12 || sum <= 0) return;
+  const double mean = sum / n, variance = std::max(0.0, sum2 / n - mean * mean);
+  cues.shading_spread = std::sqrt(variance) / mean;
+  if (variance < 1e-6) return;
+  // Share of the variance explained by the terms in `use` (least squares).
+  auto explained = [&](std::initializer_list<int> use) {
+    const int k = static_cast<int>(use.size());
+    cv::Mat ata = cv::Mat::zeros(k, k, CV_64F), atb = cv::Mat::zeros(k, 1, CV_64F), x;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      int a = 0;
+      for (int p : use) {
+        int b = 0;
+        for (int q : use) ata.at<double>(a, b++) += rows[i][p] * rows[i][q];
+        atb.at<double>(a++) += rows[i][p] * values[i];
+      }
+    }
+    if (!cv::solve(ata, atb, x, cv::DECOMP_SVD)) return 0.0;
+    double residual = 0;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      double model = 0;
+      int a = 0;
+      for (int p : use) model += rows[i][p] * x.at<double>(a++);
+      residual += (values[i] - model) * (values[i] - model);
+    }
+    return std::clamp(1.0 - residual / n / variance, 0.0, 1.0);
+  };
+  cues.shading_linear = explained({0, 1, 2});
+  cues.shading_quadratic = std::max(0.0, explained({0, 1, 2, 3, 4, 5}) - cues.shading_linear);
+}
+
+}  // namespace
+
+OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame) {
+  if (c.contour.size() < 3) throw std::invalid_argument("outlineCues: contour of fewer than 3 points");
+  if (bgr_roi.type() != CV_8UC3 || bgr_roi.size() != c.roi.size() || c.mask.size() != c.roi.size() ||
+      c.mask.type() != CV_8UC1) {
+    throw std::invalid_argument("outlineCues: image and mask must be BGR8 and CV_8U of the candidate's roi size");
+  }
+  OutlineCues cues;
+  cues.outline = c.outline;
+  cues.face_contrast = c.face_contrast;
+  const double area = cv::contourArea(c.contour), perimeter = cv::arcLength(c.contour, true);
+  std::vector<cv::Point> hull, corners;
+  cv::convexHull(c.contour, hull);
+  const double hull_area = cv::contourArea(hull);
+  cues.solidity = hull_area > 0 ? area / hull_area : 1.0;
+  cues.circularity = perimeter > 0 ? 4 * M_PI * area / (perimeter * perimeter) : 0.0;
+  const cv::RotatedRect box = cv::minAreaRect(c.contour);
+  const double long_side = std::max(box.size.width, box.size.height), short_side = std::min(box.size.width, box.size.height);
+  cues.aspect = long_side / std::max(1.0, short_side);
+  cues.rect_fill = box.size.area() > 0 ? area / box.size.area() : 1.0;
+  cv::approxPolyDP(c.contour, corners, 0.02 * perimeter, true);
+  cues.corners = static_cast<double>(corners.size());
+  int on_border = 0;
+  for (const cv::Point& p : c.contour) {
+    on_border += p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2;
+  }
+  cues.border_share = double(on_border) / c.contour.size();
+  cv::Mat grey;
+  cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
+  shadingFits(grey, c.mask, cues);
+  return cues;
+}
+
+const std::vector<std::string>& shapeFeatureNames() {
+  static const std::vector<std::string> names{
+      "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "log_face_contrast",
+      "shading_spread", "shading_linear", "shading_quadratic", "plane_structure", "sphere_structure",
+      "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
+      "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};
+  return names;
+}
+
+}  // namespace underwater_stereo

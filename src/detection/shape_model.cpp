@@ -1,0 +1,132 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/shape_model.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include "underwater_stereo/detection/shape_features.h"
+
+namespace underwater_stereo {
+namespace {
+
+/// The shapes a model tells apart; the forest's label of kShapes[i] is i.
+constexpr std::array<ShapeKind, 4> kShapes{ShapeKind::kSphere, ShapeKind::kCylinder, ShapeKind::kBox, ShapeKind::kPlane};
+
+int labelOf(ShapeKind shape) {
+  const auto it = std::find(kShapes.begin(), kShapes.end(), shape);
+  return it == kShapes.end() ? -1 : static_cast<int>(it - kShapes.begin());
+}
+
+}  // namespace
+
+std::vector<std::string> ShapeModelTraining::validate() const {
+  std::vector<std::string> p;
+  if (trees < 1 || trees > 2000) p.push_back("trees must be in [1, 2000]");
+  if (max_depth < 1 || max_depth > 30) p.push_back("max_depth must be in [1, 30]");
+  if (!(balance >= 0 && balance <= 1)) p.push_back("balance must be in [0, 1]");
+  return p;
+}
+
+ShapeModel ShapeModel::train(const cv::Mat& samples, const std::vector<ShapeKind>& labels,
+                             const ShapeModelTraining& options) {
+  const auto problems = options.validate();
+  if (!problems.empty()) throw std::invalid_argument("ShapeModel::train: " + problems.front());
+  if (samples.type() != CV_32FC1 || samples.cols != kShapeFeatureCount || samples.rows != static_cast<int>(labels.size())) {
+    throw std::invalid_argument("ShapeModel::train: need one CV_32F row of " + std::to_string(kShapeFeatureCount) +
+                                " features per label");
+  }
+  std::array<int, kShapes.size()> counts{};
+  cv::Mat responses(samples.rows, 1, CV_32SC1);
+  for (int i = 0; i < samples.rows; ++i) {
+    const int l = labelOf(labels[i]);
+    if (l < 0) throw std::invalid_argument(std::string("ShapeModel::train: cannot learn shape '") + shapeName(labels[i]) + "'");
+    responses.at<int>(i) = l;
+    ++counts[l];
+  }
+  for (std::size_t k = 0; k < kShapes.size(); ++k) {
+    if (counts[k] == 0) throw std::invalid_argument(std::string("ShapeModel::train: no samples of ") + shapeName(kShapes[k]));
+  }
+  const int most = *std::max_element(counts.begin(), counts.end());
+  cv::Mat priors(1, static_cast<int>(kShapes.size()), CV_32F);
+  for (std::size_t k = 0; k < kShapes.size(); ++k) {
+    priors.at<float>(static_cast<int>(k)) = static_cast<float>(std::pow(double(most) / counts[k], options.balance));
+  }
+  cv::theRNG().state = static_cast<std::uint64_t>(options.seed);
+  ShapeModel m;
+  m.forest_ = cv::ml::RTrees::create();
+  m.forest_->setMaxDepth(options.max_depth);
+  m.forest_->setMinSampleCount(2);
+  m.forest_->setPriors(priors);
+  m.forest_->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, options.trees, 0));
+  m.forest_->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
+  return m;
+}
+
+ShapeModel ShapeModel::load(const std::string& path) {
+  const std::string what = "shape model " + path + ": ";
+  if (!std::ifstream(path)) throw std::invalid_argument(what + "cannot be opened");
+  ShapeModel m;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) throw std::invalid_argument(what + "cannot be opened");
+    std::vector<std::string> features, shapes;
+    fs["features"] >> features;
+    fs["shapes"] >> shapes;
+    if (features != shapeFeatureNames()) {
+      throw std::invalid_argument(what + "made for other features (" + std::to_string(features.size()) +
+                                  " named; this build computes " + std::to_string(kShapeFeatureCount) + "): learn it again");
+    }
+    std::vector<std::string> expected;
+    for (ShapeKind s : kShapes) expected.emplace_back(shapeName(s));
+    if (shapes != expected) throw std::invalid_argument(what + "names other shapes than sphere, cylinder, box, plane");
+    m.forest_ = cv::ml::RTrees::create();
+    m.forest_->read(fs["forest"]);
+  } catch (const cv::Exception& e) {
+    throw std::invalid_argument(what + "unreadable (" + e.msg + ")");
+  }
+  if (!m.forest_->isTrained() || m.forest_->getVarCount() != kShapeFeatureCount) {
+    throw std::invalid_argument(what + "holds no trained forest of " + std::to_string(kShapeFeatureCount) + " features");
+  }
+  return m;
+}
+
+void ShapeModel::save(const std::string& path) const {
+  if (empty()) throw std::runtime_error("ShapeModel::save: empty model");
+  cv::FileStorage fs(path, cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw std::runtime_error("shape model " + path + ": cannot be written");
+  std::vector<std::string> shapes;
+  for (ShapeKind s : kShapes) shapes.emplace_back(shapeName(s));
+  fs << "features" << shapeFeatureNames();
+  fs << "shapes" << shapes;
+  fs << "forest" << "{";
+  forest_->write(fs);
+  fs << "}";
+}
+
+ShapeVerdict ShapeModel::classify(const std::vector<float>& features) const {
+  if (empty()) throw std::invalid_argument("ShapeModel::classify: empty model");
+  if (static_cast<int>(features.size()) != kShapeFeatureCount) {
+    throw std::invalid_argument("ShapeModel::classify: need " + std::to_string(kShapeFeatureCount) + " features, got " +
+                                std::to_string(features.size()));
+  }
+  cv::Mat votes;
+  forest_->getVotes(cv::Mat(1, kShapeFeatureCount, CV_32F, const_cast<float*>(features.data())), votes, 0);
+  // Row 0: the labels; row 1: the votes for each.
+  ShapeVerdict v;
+  int total = 0, best = 0;
+  for (int j = 0; j < votes.cols; ++j) {
+    const int label = votes.at<int>(0, j), n = votes.at<int>(1, j);
+    total += n;
+    if (n > best && label >= 0 && label < static_cast<int>(kShapes.size())) {
+      best = n;
+      v.shape = kShapes[label];
+    }
+  }
+  v.confidence = total > 0 ? double(best) / total : 0.0;
+  return v;
+}
+
+}  // namespace underwater_stereo

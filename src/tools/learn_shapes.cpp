@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// learn_shapes: learns the detector's shape model (shape.model_file) from evaluate_detector's JSON records of
+// randomised scenes: every eligible object found, with the shape features of its detection and its true shape.
+#include <yaml-cpp/yaml.h>
+
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/shape_features.h"
+#include "underwater_stereo/detection/shape_model.h"
+
+namespace {
+
+using namespace underwater_stereo;
+
+const char* kUsage =
+    "usage: learn_shapes --out MODEL.yml.gz RECORDS.json...\n"
+    "  RECORDS: evaluate_detector --random N --seed S --json RECORDS (use seeds never used for judging).\n"
+    "  Learns from each eligible object found (its detection's shape_features, its true shape) and writes the\n"
+    "  model; name it in the detector configuration as shape.model_file.\n";
+
+/// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
+void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind>& labels) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);  // JSON is YAML
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
+  }
+  if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
+    throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
+  }
+  for (const YAML::Node& pair : root["pairs"]) {
+    for (const YAML::Node& o : pair["objects"]) {
+      if (!o["eligible"].as<bool>(false) || !o["found"].as<bool>(false)) continue;
+      const YAML::Node f = o["detected"]["shape_features"];
+      if (!f || !f.IsSequence()) {
+        throw std::invalid_argument(path + ": a found object without detected.shape_features (records older than the "
+                                           "shape model?)");
+      }
+      if (f.size() == 0) continue;  // too few points to describe
+      if (static_cast<int>(f.size()) != kShapeFeatureCount) {
+        throw std::invalid_argument(path + ": " + std::to_string(f.size()) + " shape features per object, this build computes " +
+                                    std::to_string(kShapeFeatureCount) + ": evaluate again with this build");
+      }
+      cv::Mat row(1, kShapeFeatureCount, CV_32F);
+      for (int j = 0; j < kShapeFeatureCount; ++j) row.at<float>(j) = f[j].IsNull() ? 0.0F : f[j].as<float>();
+      samples.push_back(row);
+      labels.push_back(shapeFromName(o["shape"].as<std::string>(), path + ": shape"));
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out;
+  std::vector<std::string> inputs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (!a.empty() && a[0] == '-') {
+      std::cerr << "learn_shapes: unknown option " << a << "\n" << kUsage;
+      return 2;
+    } else {
+      inputs.push_back(a);
+    }
+  }
+  if (out.empty() || inputs.empty()) {
+    std::cerr << "learn_shapes: give --out MODEL and at least one records file\n" << kUsage;
+    return 2;
+  }
+  try {
+    cv::Mat samples(0, kShapeFeatureCount, CV_32F);
+    std::vector<ShapeKind> labels;
+    for (const std::string& path : inputs) addRecords(path, samples, labels);
+    std::map<ShapeKind, int> counts;
+    for (ShapeKind s : labels) ++counts[s];
+    ShapeModel::train(samples, labels, ShapeModelTraining{}).save(out);
+    std::cout << "learnt from " << labels.size() << " objects (";
+    for (const auto& [shape, n] : counts) std::cout << " " << shape << " " << n;
+    std::cout << " ); wrote " << out << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "learn_shapes: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
