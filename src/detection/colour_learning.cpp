@@ -234,6 +234,7 @@ void LearningScore::add(const LearningScore& o) {
   for (std::size_t k = 0; k < labelled.size(); ++k) {
     labelled[k] += o.labelled[k];
     found[k] += o.found[k];
+    false_by_colour[k] += o.false_by_colour[k];
     for (std::size_t j = 0; j < confusion[k].size(); ++j) confusion[k][j] += o.confusion[k][j];
   }
   frames += o.frames;
@@ -251,13 +252,17 @@ double LearningScore::recall() const {
 
 namespace {
 
-/// Adds one frame's detections (those of at least `min_confidence`) to `s`.
-void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, double min_confidence,
+/// Adds one frame's detections (those of at least their colour's `min_confidence`) to `s`.
+void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, const std::vector<double>& min_confidence,
                 const LearningOptions& options, LearningScore& s) {
   const std::size_t n = options.colours.size();
   ++s.frames;
   std::vector<bool> used(objects.size(), false), counted_object(objects.size(), false);
-  for (std::size_t i = 0; i < objects.size(); ++i) counted_object[i] = objects[i].confidence >= min_confidence;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const auto it = std::find(options.colours.begin(), options.colours.end(), objects[i].colour);
+    const double needed = it == options.colours.end() ? 0.0 : min_confidence[it - options.colours.begin()];
+    counted_object[i] = objects[i].confidence >= needed;
+  }
   auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
     const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
     return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
@@ -291,18 +296,41 @@ void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, d
       ++s.confusion[colour][n];
     }
   }
-  for (std::size_t i = 0; i < objects.size(); ++i) s.false_detections += counted_object[i] && !used[i] ? 1 : 0;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (!counted_object[i] || used[i]) continue;
+    ++s.false_detections;
+    const auto it = std::find(options.colours.begin(), options.colours.end(), objects[i].colour);
+    if (it != options.colours.end()) ++s.false_by_colour[it - options.colours.begin()];
+  }
 }
 
 LearningScore emptyScore(std::size_t colours) {
   LearningScore s;
   s.labelled.assign(colours, 0);
   s.found.assign(colours, 0);
+  s.false_by_colour.assign(colours, 0);
   s.confusion.assign(colours, std::vector<int>(colours + 1, 0));
   return s;
 }
 
 }  // namespace
+
+std::vector<std::vector<Detection>> detectionsOf(const Detector& detector, const std::vector<LabelledFrame>& frames) {
+  std::vector<std::vector<Detection>> out;
+  for (const LabelledFrame& f : frames) out.push_back(detector.detect2d(RawFrame(f.image)).objects);
+  return out;
+}
+
+LearningScore scoreDetections(const std::vector<LabelledFrame>& frames,
+                              const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                              const std::vector<double>& min_confidence) {
+  if (detections.size() != frames.size() || min_confidence.size() != options.colours.size()) {
+    throw std::invalid_argument("scoreDetections: need one detection list per frame and one threshold per colour");
+  }
+  LearningScore s = emptyScore(options.colours.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) scoreFrame(frames[i], detections[i], min_confidence, options, s);
+  return s;
+}
 
 std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<LabelledFrame>& frames,
                                    const LearningOptions& options, const std::vector<double>& min_confidences) {
@@ -313,16 +341,66 @@ std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<L
       min_confidences.front() > 0 && min_confidences.front() < detector.config().learned.min_confidence) {
     throw std::invalid_argument("scoreAt: threshold under the detector's colour_model.min_confidence");
   }
-  std::vector<LearningScore> out(min_confidences.size(), emptyScore(options.colours.size()));
-  for (const LabelledFrame& f : frames) {
-    const DetectionResult r = detector.detect2d(RawFrame(f.image));
-    for (std::size_t t = 0; t < min_confidences.size(); ++t) scoreFrame(f, r.objects, min_confidences[t], options, out[t]);
+  const auto detections = detectionsOf(detector, frames);
+  std::vector<LearningScore> out;
+  for (double t : min_confidences) {
+    out.push_back(scoreDetections(frames, detections, options, std::vector<double>(options.colours.size(), t)));
   }
   return out;
 }
 
 LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
   return scoreAt(detector, frames, options, {0.0}).front();
+}
+
+namespace {
+
+/// Mean of the per-colour recalls (a colour without labels counts as found).
+double balancedRecall(const LearningScore& s) {
+  double sum = 0;
+  for (std::size_t k = 0; k < s.labelled.size(); ++k) sum += s.labelled[k] ? double(s.found[k]) / s.labelled[k] : 1.0;
+  return s.labelled.empty() ? 0.0 : sum / s.labelled.size();
+}
+
+}  // namespace
+
+ThresholdChoice chooseThresholds(const std::vector<LabelledFrame>& frames,
+                                 const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                                 const std::vector<double>& grid, double max_false_per_frame) {
+  const std::size_t n = options.colours.size();
+  if (grid.empty() || n == 0 || std::pow(double(grid.size()), double(n)) > 1e5) {
+    throw std::invalid_argument("chooseThresholds: need 1 to 1e5 threshold combinations (grid size ^ colours)");
+  }
+  ThresholdChoice best;
+  bool best_within = false;
+  std::vector<std::size_t> at(n, 0);
+  for (bool more = true; more;) {
+    std::vector<double> t(n);
+    for (std::size_t k = 0; k < n; ++k) t[k] = grid[at[k]];
+    const LearningScore s = scoreDetections(frames, detections, options, t);
+    const bool within = s.false_detections <= max_false_per_frame * s.frames;
+    // Within the false budget: the best balanced recall, then overall recall, then fewest false; outside it
+    // (nothing fits yet): fewest false.
+    bool better = best.min_confidence.empty() || (within && !best_within);
+    if (!better && within == best_within) {
+      const double b = balancedRecall(s), bb = balancedRecall(best.score);
+      better = within ? (b > bb + 1e-12 || (b > bb - 1e-12 && (s.recall() > best.score.recall() + 1e-12 ||
+                                                               (s.recall() > best.score.recall() - 1e-12 &&
+                                                                s.false_detections < best.score.false_detections))))
+                      : s.false_detections < best.score.false_detections;
+    }
+    if (better) {
+      best.min_confidence = t;
+      best.score = s;
+      best_within = within;
+    }
+    more = false;
+    for (std::size_t k = 0; k < n && !more; ++k) {
+      if (++at[k] < grid.size()) more = true;
+      else at[k] = 0;
+    }
+  }
+  return best;
 }
 
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
@@ -338,6 +416,7 @@ DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& mode
     ColourClass k;
     if (it != base.colours.classes.end()) k = *it;
     k.name = name;
+    k.min_confidence = 0;  // the base's own threshold belongs to the base's model
     c.colours.classes.push_back(k);
   }
   return c;
