@@ -278,3 +278,23 @@ TEST(ColourLearning, AModelOfEarlierFeaturesReadsTheirColumns) {
   EXPECT_THROW(c.learned.model->classify(cv::Mat::zeros(3, 30, CV_32F)), std::invalid_argument)
       << "rows of the wrong width";
 }
+
+TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {
+  const LearningOptions o = options();
+  for (unsigned seed = 0; seed < 10; ++seed) {
+    const LabelledFrame f = syntheticFrame(seed);
+    const LabelledFrame z = zoomedIn(f, seed, o);
+    SCOPED_TRACE(f.name);
+    ASSERT_EQ(z.image.size(), f.image.size());
+    ASSERT_FALSE(z.labels.empty()) << "cut around a labelled object";
+    for (const LabelBox& l : z.labels) {
+      EXPECT_EQ(l.box & cv::Rect(cv::Point(), z.image.size()), l.box) << "clipped to the image";
+      // A buoy's centre pixel keeps its colour (the synthetic buoys are discs filling their boxes).
+      const cv::Point c(l.box.x + l.box.width / 2, l.box.y + l.box.height / 2);
+      if (l.box.width < 10 || l.box.height < 10 || l.box.width != l.box.height) continue;  // cut by the border
+      const cv::Vec3b p = z.image.at<cv::Vec3b>(c);
+      if (l.name == "buoy_red") EXPECT_GT(p[2], p[1]) << "red at the red label's centre";
+      if (l.name == "buoy_green") EXPECT_GT(p[1], p[2]) << "green at the green label's centre";
+    }
+  }
+}

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/colour_learning.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -113,6 +115,7 @@ std::vector<std::string> LearningOptions::validate() const {
   if (colours.empty()) p.push_back("no colours to learn");
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
+  if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
   return p;
 }
 
@@ -183,6 +186,37 @@ cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed) {
   return out;
 }
 
+LabelledFrame zoomedIn(const LabelledFrame& frame, unsigned seed, const LearningOptions& options) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> scale(1.3, 2.0), unit(0.0, 1.0);
+  const double s = scale(rng);
+  const cv::Size size = frame.image.size();
+  cv::Mat larger;
+  cv::resize(frame.image, larger, cv::Size(), s, s, cv::INTER_LINEAR);
+  // The window: around a random labelled object of a colour (its centre somewhere inside), else anywhere.
+  std::vector<cv::Point2d> centres;
+  for (const LabelBox& l : frame.labels) {
+    if (colourOfLabel(l.name, options) >= 0) centres.emplace_back(s * (l.box.x + l.box.width / 2.0), s * (l.box.y + l.box.height / 2.0));
+  }
+  const int max_x = larger.cols - size.width, max_y = larger.rows - size.height;
+  cv::Point2d at(unit(rng) * max_x, unit(rng) * max_y);
+  if (!centres.empty()) {
+    const cv::Point2d c = centres[std::min(centres.size() - 1, static_cast<std::size_t>(unit(rng) * centres.size()))];
+    at = cv::Point2d(c.x - (0.2 + 0.6 * unit(rng)) * size.width, c.y - (0.2 + 0.6 * unit(rng)) * size.height);
+  }
+  const cv::Point origin(std::clamp(static_cast<int>(at.x), 0, max_x), std::clamp(static_cast<int>(at.y), 0, max_y));
+  LabelledFrame out;
+  out.name = frame.name + " (zoomed)";
+  out.image = larger(cv::Rect(origin, size)).clone();
+  for (const LabelBox& l : frame.labels) {
+    const cv::Rect scaled(static_cast<int>(std::floor(s * l.box.x)), static_cast<int>(std::floor(s * l.box.y)),
+                          static_cast<int>(std::ceil(s * l.box.width)), static_cast<int>(std::ceil(s * l.box.height)));
+    const cv::Rect inside = (scaled - origin) & cv::Rect(cv::Point(), size);
+    if (inside.area() > 0) out.labels.push_back({l.name, inside});
+  }
+  return out;
+}
+
 namespace {
 
 /// Rows of one image of a frame (its labels) added to `out`; counts coverage when `count` is set.
@@ -222,6 +256,10 @@ FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, con
   addSamples(frame.image, frame, proposer, options, true, out);
   for (int k = 0; k < options.augment; ++k) {
     addSamples(augmentedWater(frame.image, seed * 7919U + static_cast<unsigned>(k)), frame, proposer, options, false, out);
+  }
+  for (int k = 0; k < options.zoom; ++k) {
+    const LabelledFrame nearer = zoomedIn(frame, seed * 7907U + static_cast<unsigned>(k), options);
+    addSamples(nearer.image, nearer, proposer, options, false, out);
   }
   return out;
 }

@@ -40,6 +40,7 @@ const char* kUsage =
     "  --seed S            fold assignment and forest seed (default 1)\n"
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
+    "  --zoom N            and from N copies seen nearer (1.3-2x, around a labelled object; default 0)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
     "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
     "                      (one table; from the same folds, to choose min_confidence)\n"
@@ -108,6 +109,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--folds") o.folds = static_cast<int>(number(1, 100));
     else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
     else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
+    else if (arg == "--zoom") o.learning.zoom = static_cast<int>(number(0, 20));
     else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
     else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));

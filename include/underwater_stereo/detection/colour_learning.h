@@ -39,6 +39,8 @@ struct LearningOptions {
   int min_label_px = 15;
   /// Each frame is also learnt from this many copies seen through other water (augmentedWater()).
   int augment = 2;
+  /// And from this many copies seen nearer (zoomedIn()): near objects are few in most labelled sets.
+  int zoom = 0;
   ColourModelTraining training;
 
   std::vector<std::string> validate() const;
@@ -56,6 +58,11 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
 /// random water colour (up to 35 %), per-channel gains of 0.75-1.3 (white balance, attenuation) and an
 /// overall exposure of 0.7-1.3. Labels stay valid (no geometry changes).
 cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed);
+
+/// `frame` as if seen from nearer, drawn from `seed`: enlarged 1.3-2x and cut back to its size around one of its
+/// labelled objects of a colour (anywhere when it has none); labels scaled, clipped to the window, those outside
+/// it dropped.
+LabelledFrame zoomedIn(const LabelledFrame& frame, unsigned seed, const LearningOptions& options);
 
 /// Training rows of one frame: the detector's proposals with their features and label (-1 background,
 /// k colour k); proposals that half-overlap a labelled object, or overlap a too-small one, are left out.
