@@ -273,6 +273,16 @@ std::string thresholdsText(const std::vector<double>& t, const LearningOptions& 
   return out;
 }
 
+/// `x` in the fewest digits that read back as x.
+std::string shortest(double x) {
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, x);
+    if (std::stod(text) == x) break;
+  }
+  return text;
+}
+
 /// Held-out detections counted at `min_confidence` (per colour) as detect_files' JSON lines, for scripts/evaluate_transdec --detections; nothing when `out` is not open.
 void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector<std::vector<Detection>>& detections,
                      const std::vector<double>& min_confidence, const LearningOptions& options, std::ofstream& out) {
@@ -302,14 +312,15 @@ void writeConfig(const std::string& base_path, const std::string& out, const std
     if (!entry) entry["name"] = name;
     // A threshold of the base's belongs to the base's model: the new one's are chosen here or none.
     entry.remove("min_confidence");
-    if (!per_colour.empty()) entry["min_confidence"] = per_colour[k];
+    // Thresholds as written on the command line (0.35, not 0.34999999999999998).
+    if (!per_colour.empty()) entry["min_confidence"] = shortest(per_colour[k]);
     entry.SetStyle(YAML::EmitterStyle::Flow);
     colours.push_back(entry);
   }
   root["colours"] = colours;
   root["candidates"]["source"] = "learned";
   root["colour_model"]["file"] = model_name;
-  if (min_confidence > 0) root["colour_model"]["min_confidence"] = min_confidence;
+  if (min_confidence > 0) root["colour_model"]["min_confidence"] = shortest(min_confidence);
   std::ofstream file(out);
   file << "# Learnt by learn_colours from labelled frames (see README, 'A new pool'); the colour model is in "
        << model_name << ".\n"
