@@ -434,6 +434,7 @@ int main(int argc, char** argv) {
           chosen_total.add(scoreDetections(held_out, found, o.learning, choice.min_confidence));
           writeDetections(held_out, found, choice.min_confidence, o.learning, held_out_detections);
         }
+        if (!o.choose.empty() && o.sweep.empty()) continue;  // no single threshold to score
         const Detector fold_detector(configWith(model, thresholds.front(), {}));
         const auto found = detectionsOf(fold_detector, held_out);
         for (std::size_t t = 0; t < thresholds.size(); ++t) {
@@ -448,7 +449,8 @@ int main(int argc, char** argv) {
                                   std::to_string(frames.size()) + " frames; labels under " +
                                   std::to_string(o.learning.min_label_px) + " px tall not counted; ";
       const std::size_t chosen = std::find(thresholds.begin(), thresholds.end(), min_confidence) - thresholds.begin();
-      printScore(totals[chosen], o.learning, heading + "min_confidence " + formatted(min_confidence) + ")");
+      // With thresholds chosen per colour the base's single one means nothing: only those are scored.
+      if (o.choose.empty()) printScore(totals[chosen], o.learning, heading + "min_confidence " + formatted(min_confidence) + ")");
       if (!o.sweep.empty()) printSweep(thresholds, totals, o.learning);
       if (!o.choose.empty()) {
         printScore(chosen_total, o.learning,
