@@ -138,6 +138,20 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
   ASSERT_TRUE(ok.learned.model);
   EXPECT_EQ(ok.learned.model->colours(), o.colours);
   EXPECT_DOUBLE_EQ(ok.learned.min_confidence, 0.4);
+  const DetectorConfig per_colour = parseDetectorConfig(
+      YAML::Load("colours: [{name: red, min_confidence: 0.55}, {name: green}]\ncandidates: {source: learned}\n"
+                 "colour_model: {file: roundtrip.colour_model.yml.gz}"),
+      ::testing::TempDir());
+  EXPECT_DOUBLE_EQ(per_colour.colours.classes[0].min_confidence, 0.55);
+  EXPECT_DOUBLE_EQ(per_colour.colours.classes[1].min_confidence, 0.0) << "the colour model's";
+  try {
+    parseDetectorConfig(YAML::Load("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
+                                   "candidates: {source: learned}\ncolour_model: {file: roundtrip.colour_model.yml.gz}"),
+                        ::testing::TempDir());
+    FAIL() << "a per-colour min_confidence of 1.5 was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("colours[0] (red).min_confidence"), std::string::npos) << e.what();
+  }
   try {
     parseDetectorConfig(YAML::Load("colours: [{name: red}, {name: orange}]\ncandidates: {source: learned}\n"
                                    "colour_model: {file: roundtrip.colour_model.yml.gz, min_confidence: 2}"),
@@ -196,4 +210,91 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   EXPECT_EQ(colourOfLabel("gate", with_gate), -1);
   EXPECT_EQ(colourOfLabel("green", with_gate), 1);
   EXPECT_EQ(colourOfLabel("buoy_red", with_gate), 0);
+}
+
+TEST(ColourLearning, ChoosesPerColourThresholdsWithinTheFalseBudget) {
+  LearningOptions o = options();
+  LabelledFrame f;
+  f.name = "hand-made";
+  f.labels = {{"buoy_red", cv::Rect(0, 0, 40, 40)}, {"buoy_green", cv::Rect(100, 0, 40, 40)}};
+  auto detection = [](const char* colour, cv::Rect roi, double confidence) {
+    Detection d;
+    d.colour = colour;
+    d.roi = roi;
+    d.confidence = confidence;
+    return d;
+  };
+  const std::vector<std::vector<Detection>> detections{{detection("red", {10, 10, 20, 20}, 0.6),
+                                                        detection("red", {200, 200, 20, 20}, 0.4),
+                                                        detection("green", {110, 10, 20, 20}, 0.45),
+                                                        detection("green", {300, 200, 20, 20}, 0.32)}};
+  const std::vector<double> grid{0.3, 0.4, 0.5};
+  // No false detection allowed: red needs 0.5 (its false one has 0.4), green 0.4 (its false one 0.32).
+  const ThresholdChoice none = chooseThresholds({f}, detections, o, grid, 0.0);
+  EXPECT_EQ(none.min_confidence, (std::vector<double>{0.5, 0.4}));
+  EXPECT_EQ(none.score.found, (std::vector<int>{1, 1}));
+  EXPECT_EQ(none.score.false_detections, 0);
+  // Scored alike by scoreDetections, with the false ones per colour.
+  const LearningScore low = scoreDetections({f}, detections, o, {0.3, 0.3});
+  EXPECT_EQ(low.false_detections, 2);
+  EXPECT_EQ(low.false_by_colour, (std::vector<int>{1, 1}));
+  // A green found only at 0.3 with its false one: within a budget of one false, recall wins.
+  std::vector<std::vector<Detection>> weak = detections;
+  weak[0][2].confidence = 0.35;
+  const ThresholdChoice one = chooseThresholds({f}, weak, o, grid, 1.0);
+  EXPECT_EQ(one.min_confidence, (std::vector<double>{0.5, 0.3}));
+  EXPECT_EQ(one.score.false_detections, 1);
+  // Nothing within the budget: the fewest false.
+  const ThresholdChoice fewest = chooseThresholds({f}, weak, o, {0.3}, 0.0);
+  EXPECT_EQ(fewest.score.false_detections, 2);
+  EXPECT_THROW(scoreDetections({f}, detections, o, {0.3}), std::invalid_argument) << "one threshold for two colours";
+}
+
+TEST(ColourLearning, PerColourThresholdsActLikeTheDetectorSetToThem) {
+  std::vector<LabelledFrame> train, test;
+  for (unsigned s = 0; s < 20; ++s) train.push_back(syntheticFrame(s));
+  for (unsigned s = 3000; s < 3015; ++s) test.push_back(syntheticFrame(s));
+  const LearningOptions o = options();
+  const auto model = std::make_shared<const ColourModel>(learnt(train, o));
+  DetectorConfig c = learnedConfig(baseConfig(), "in memory", model, o);
+  c.learned.min_confidence = 0.2;
+  const auto detections = detectionsOf(Detector(c), test);
+  const std::vector<double> per_colour{0.7, 0.3};
+  c.colours.classes[0].min_confidence = per_colour[0];
+  c.colours.classes[1].min_confidence = per_colour[1];
+  const LearningScore alone = score(Detector(c), test, o);
+  const LearningScore filtered = scoreDetections(test, detections, o, per_colour);
+  EXPECT_EQ(filtered.found, alone.found);
+  EXPECT_EQ(filtered.false_detections, alone.false_detections);
+  EXPECT_EQ(filtered.false_by_colour, alone.false_by_colour);
+}
+
+TEST(ColourLearning, AModelOfEarlierFeaturesReadsTheirColumns) {
+  // config/detector.yaml's model was learnt with the first 30 features; today's proposals have more.
+  const DetectorConfig c = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  ASSERT_TRUE(c.learned.model);
+  cv::Mat features = cv::Mat::zeros(3, kBlobFeatureCount, CV_32F);
+  EXPECT_EQ(c.learned.model->classify(features).size(), 3u);
+  EXPECT_THROW(c.learned.model->classify(cv::Mat::zeros(3, 30, CV_32F)), std::invalid_argument)
+      << "rows of the wrong width";
+}
+
+TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {
+  const LearningOptions o = options();
+  for (unsigned seed = 0; seed < 10; ++seed) {
+    const LabelledFrame f = syntheticFrame(seed);
+    const LabelledFrame z = zoomedIn(f, seed, o);
+    SCOPED_TRACE(f.name);
+    ASSERT_EQ(z.image.size(), f.image.size());
+    ASSERT_FALSE(z.labels.empty()) << "cut around a labelled object";
+    for (const LabelBox& l : z.labels) {
+      EXPECT_EQ(l.box & cv::Rect(cv::Point(), z.image.size()), l.box) << "clipped to the image";
+      // A buoy's centre pixel keeps its colour (the synthetic buoys are discs filling their boxes).
+      const cv::Point c(l.box.x + l.box.width / 2, l.box.y + l.box.height / 2);
+      if (l.box.width < 10 || l.box.height < 10 || l.box.width != l.box.height) continue;  // cut by the border
+      const cv::Vec3b p = z.image.at<cv::Vec3b>(c);
+      if (l.name == "buoy_red") EXPECT_GT(p[2], p[1]) << "red at the red label's centre";
+      if (l.name == "buoy_green") EXPECT_GT(p[1], p[2]) << "green at the green label's centre";
+    }
+  }
 }

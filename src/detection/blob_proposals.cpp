@@ -94,6 +94,13 @@ BlobSums sumsOver(const cv::Mat& bgr, const WaterContrast& wc, const cv::Mat& sa
   return s;
 }
 
+/// Channel `c` of a region's mean contrast (or its chroma) in the frame's own spreads of it: how unusual the
+/// region is in this frame's water, whatever the water (the saliency's per-channel terms, signed).
+float zScore(const cv::Vec3d& value, const ContrastStats& stats, SaliencyKind kind, int c) {
+  const int k = static_cast<int>(kind);
+  return static_cast<float>((value[c] - stats.median[k][c]) / stats.spread[k][c]);
+}
+
 std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const BlobProposal& b) {
   const cv::Rect frame(0, 0, bgr.cols, bgr.rows);
   const cv::Rect outer = (b.roi + cv::Size(2 * kRingPx, 2 * kRingPx) - cv::Point(kRingPx, kRingPx)) & frame;
@@ -136,7 +143,10 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
           static_cast<float>(s.saturation / n / 255.0), static_cast<float>(raw_sum / (3 * 255.0)),
           static_cast<float>(std::cos(hue)), static_cast<float>(std::sin(hue)),
           static_cast<float>(water[0] / water_sum), static_cast<float>(water[1] / water_sum),
-          static_cast<float>(std::log(water_sum / 3 + 1))};
+          static_cast<float>(std::log(water_sum / 3 + 1)),
+          zScore(c_mean, wc.stats, SaliencyKind::kChroma, 0), zScore(c_mean, wc.stats, SaliencyKind::kChroma, 1),
+          zScore(c_mean, wc.stats, SaliencyKind::kChroma, 2), zScore(f_mean, wc.stats, SaliencyKind::kFull, 0),
+          zScore(f_mean, wc.stats, SaliencyKind::kFull, 1), zScore(f_mean, wc.stats, SaliencyKind::kFull, 2)};
 }
 
 }  // namespace
@@ -146,7 +156,8 @@ const std::vector<std::string>& blobFeatureNames() {
       "contrast_b", "contrast_g", "contrast_r", "chroma_b", "chroma_g", "chroma_r", "edge_b", "edge_g", "edge_r",
       "texture_b", "texture_g", "texture_r", "chromaticity_b", "chromaticity_g", "chromaticity_r", "log_area_fraction",
       "fill", "aspect", "solidity", "circularity", "log_level", "full_saliency", "log_saliency", "saturation",
-      "brightness", "hue_cos", "hue_sin", "water_chromaticity_b", "water_chromaticity_g", "log_water_brightness"};
+      "brightness", "hue_cos", "hue_sin", "water_chromaticity_b", "water_chromaticity_g", "log_water_brightness",
+      "chroma_z_b", "chroma_z_g", "chroma_z_r", "contrast_z_b", "contrast_z_g", "contrast_z_r"};
   return names;
 }
 

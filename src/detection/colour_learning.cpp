@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/colour_learning.h"
 
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -113,6 +115,7 @@ std::vector<std::string> LearningOptions::validate() const {
   if (colours.empty()) p.push_back("no colours to learn");
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
+  if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
   return p;
 }
 
@@ -183,6 +186,37 @@ cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed) {
   return out;
 }
 
+LabelledFrame zoomedIn(const LabelledFrame& frame, unsigned seed, const LearningOptions& options) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> scale(1.3, 2.0), unit(0.0, 1.0);
+  const double s = scale(rng);
+  const cv::Size size = frame.image.size();
+  cv::Mat larger;
+  cv::resize(frame.image, larger, cv::Size(), s, s, cv::INTER_LINEAR);
+  // The window: around a random labelled object of a colour (its centre somewhere inside), else anywhere.
+  std::vector<cv::Point2d> centres;
+  for (const LabelBox& l : frame.labels) {
+    if (colourOfLabel(l.name, options) >= 0) centres.emplace_back(s * (l.box.x + l.box.width / 2.0), s * (l.box.y + l.box.height / 2.0));
+  }
+  const int max_x = larger.cols - size.width, max_y = larger.rows - size.height;
+  cv::Point2d at(unit(rng) * max_x, unit(rng) * max_y);
+  if (!centres.empty()) {
+    const cv::Point2d c = centres[std::min(centres.size() - 1, static_cast<std::size_t>(unit(rng) * centres.size()))];
+    at = cv::Point2d(c.x - (0.2 + 0.6 * unit(rng)) * size.width, c.y - (0.2 + 0.6 * unit(rng)) * size.height);
+  }
+  const cv::Point origin(std::clamp(static_cast<int>(at.x), 0, max_x), std::clamp(static_cast<int>(at.y), 0, max_y));
+  LabelledFrame out;
+  out.name = frame.name + " (zoomed)";
+  out.image = larger(cv::Rect(origin, size)).clone();
+  for (const LabelBox& l : frame.labels) {
+    const cv::Rect scaled(static_cast<int>(std::floor(s * l.box.x)), static_cast<int>(std::floor(s * l.box.y)),
+                          static_cast<int>(std::ceil(s * l.box.width)), static_cast<int>(std::ceil(s * l.box.height)));
+    const cv::Rect inside = (scaled - origin) & cv::Rect(cv::Point(), size);
+    if (inside.area() > 0) out.labels.push_back({l.name, inside});
+  }
+  return out;
+}
+
 namespace {
 
 /// Rows of one image of a frame (its labels) added to `out`; counts coverage when `count` is set.
@@ -223,6 +257,10 @@ FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, con
   for (int k = 0; k < options.augment; ++k) {
     addSamples(augmentedWater(frame.image, seed * 7919U + static_cast<unsigned>(k)), frame, proposer, options, false, out);
   }
+  for (int k = 0; k < options.zoom; ++k) {
+    const LabelledFrame nearer = zoomedIn(frame, seed * 7907U + static_cast<unsigned>(k), options);
+    addSamples(nearer.image, nearer, proposer, options, false, out);
+  }
   return out;
 }
 
@@ -234,6 +272,7 @@ void LearningScore::add(const LearningScore& o) {
   for (std::size_t k = 0; k < labelled.size(); ++k) {
     labelled[k] += o.labelled[k];
     found[k] += o.found[k];
+    false_by_colour[k] += o.false_by_colour[k];
     for (std::size_t j = 0; j < confusion[k].size(); ++j) confusion[k][j] += o.confusion[k][j];
   }
   frames += o.frames;
@@ -251,13 +290,17 @@ double LearningScore::recall() const {
 
 namespace {
 
-/// Adds one frame's detections (those of at least `min_confidence`) to `s`.
-void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, double min_confidence,
+/// Adds one frame's detections (those of at least their colour's `min_confidence`) to `s`.
+void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, const std::vector<double>& min_confidence,
                 const LearningOptions& options, LearningScore& s) {
   const std::size_t n = options.colours.size();
   ++s.frames;
   std::vector<bool> used(objects.size(), false), counted_object(objects.size(), false);
-  for (std::size_t i = 0; i < objects.size(); ++i) counted_object[i] = objects[i].confidence >= min_confidence;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const auto it = std::find(options.colours.begin(), options.colours.end(), objects[i].colour);
+    const double needed = it == options.colours.end() ? 0.0 : min_confidence[it - options.colours.begin()];
+    counted_object[i] = objects[i].confidence >= needed;
+  }
   auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
     const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
     return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
@@ -291,18 +334,41 @@ void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, d
       ++s.confusion[colour][n];
     }
   }
-  for (std::size_t i = 0; i < objects.size(); ++i) s.false_detections += counted_object[i] && !used[i] ? 1 : 0;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (!counted_object[i] || used[i]) continue;
+    ++s.false_detections;
+    const auto it = std::find(options.colours.begin(), options.colours.end(), objects[i].colour);
+    if (it != options.colours.end()) ++s.false_by_colour[it - options.colours.begin()];
+  }
 }
 
 LearningScore emptyScore(std::size_t colours) {
   LearningScore s;
   s.labelled.assign(colours, 0);
   s.found.assign(colours, 0);
+  s.false_by_colour.assign(colours, 0);
   s.confusion.assign(colours, std::vector<int>(colours + 1, 0));
   return s;
 }
 
 }  // namespace
+
+std::vector<std::vector<Detection>> detectionsOf(const Detector& detector, const std::vector<LabelledFrame>& frames) {
+  std::vector<std::vector<Detection>> out;
+  for (const LabelledFrame& f : frames) out.push_back(detector.detect2d(RawFrame(f.image)).objects);
+  return out;
+}
+
+LearningScore scoreDetections(const std::vector<LabelledFrame>& frames,
+                              const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                              const std::vector<double>& min_confidence) {
+  if (detections.size() != frames.size() || min_confidence.size() != options.colours.size()) {
+    throw std::invalid_argument("scoreDetections: need one detection list per frame and one threshold per colour");
+  }
+  LearningScore s = emptyScore(options.colours.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) scoreFrame(frames[i], detections[i], min_confidence, options, s);
+  return s;
+}
 
 std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<LabelledFrame>& frames,
                                    const LearningOptions& options, const std::vector<double>& min_confidences) {
@@ -313,16 +379,66 @@ std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<L
       min_confidences.front() > 0 && min_confidences.front() < detector.config().learned.min_confidence) {
     throw std::invalid_argument("scoreAt: threshold under the detector's colour_model.min_confidence");
   }
-  std::vector<LearningScore> out(min_confidences.size(), emptyScore(options.colours.size()));
-  for (const LabelledFrame& f : frames) {
-    const DetectionResult r = detector.detect2d(RawFrame(f.image));
-    for (std::size_t t = 0; t < min_confidences.size(); ++t) scoreFrame(f, r.objects, min_confidences[t], options, out[t]);
+  const auto detections = detectionsOf(detector, frames);
+  std::vector<LearningScore> out;
+  for (double t : min_confidences) {
+    out.push_back(scoreDetections(frames, detections, options, std::vector<double>(options.colours.size(), t)));
   }
   return out;
 }
 
 LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
   return scoreAt(detector, frames, options, {0.0}).front();
+}
+
+namespace {
+
+/// Mean of the per-colour recalls (a colour without labels counts as found).
+double balancedRecall(const LearningScore& s) {
+  double sum = 0;
+  for (std::size_t k = 0; k < s.labelled.size(); ++k) sum += s.labelled[k] ? double(s.found[k]) / s.labelled[k] : 1.0;
+  return s.labelled.empty() ? 0.0 : sum / s.labelled.size();
+}
+
+}  // namespace
+
+ThresholdChoice chooseThresholds(const std::vector<LabelledFrame>& frames,
+                                 const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                                 const std::vector<double>& grid, double max_false_per_frame) {
+  const std::size_t n = options.colours.size();
+  if (grid.empty() || n == 0 || std::pow(double(grid.size()), double(n)) > 1e5) {
+    throw std::invalid_argument("chooseThresholds: need 1 to 1e5 threshold combinations (grid size ^ colours)");
+  }
+  ThresholdChoice best;
+  bool best_within = false;
+  std::vector<std::size_t> at(n, 0);
+  for (bool more = true; more;) {
+    std::vector<double> t(n);
+    for (std::size_t k = 0; k < n; ++k) t[k] = grid[at[k]];
+    const LearningScore s = scoreDetections(frames, detections, options, t);
+    const bool within = s.false_detections <= max_false_per_frame * s.frames;
+    // Within the false budget: the best balanced recall, then overall recall, then fewest false; outside it
+    // (nothing fits yet): fewest false.
+    bool better = best.min_confidence.empty() || (within && !best_within);
+    if (!better && within == best_within) {
+      const double b = balancedRecall(s), bb = balancedRecall(best.score);
+      better = within ? (b > bb + 1e-12 || (b > bb - 1e-12 && (s.recall() > best.score.recall() + 1e-12 ||
+                                                               (s.recall() > best.score.recall() - 1e-12 &&
+                                                                s.false_detections < best.score.false_detections))))
+                      : s.false_detections < best.score.false_detections;
+    }
+    if (better) {
+      best.min_confidence = t;
+      best.score = s;
+      best_within = within;
+    }
+    more = false;
+    for (std::size_t k = 0; k < n && !more; ++k) {
+      if (++at[k] < grid.size()) more = true;
+      else at[k] = 0;
+    }
+  }
+  return best;
 }
 
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
@@ -338,6 +454,7 @@ DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& mode
     ColourClass k;
     if (it != base.colours.classes.end()) k = *it;
     k.name = name;
+    k.min_confidence = 0;  // the base's own threshold belongs to the base's model
     c.colours.classes.push_back(k);
   }
   return c;

@@ -76,19 +76,22 @@ ColourModel ColourModel::load(const std::string& path) {
   try {
     fs["colours"] >> m.colours_;
     fs["features"] >> features;
-    if (features != blobFeatureNames()) {
+    // A model of an earlier build reads the first of today's features (new ones are only ever appended).
+    const std::vector<std::string>& names = blobFeatureNames();
+    if (features.empty() || features.size() > names.size() || !std::equal(features.begin(), features.end(), names.begin())) {
       throw std::invalid_argument("colour model " + path + ": made for other features (" + std::to_string(features.size()) +
                                   " named; this build computes " + std::to_string(kBlobFeatureCount) + "): learn it again");
     }
+    m.feature_count_ = static_cast<int>(features.size());
     if (m.colours_.empty()) throw std::invalid_argument("colour model " + path + ": names no colours");
     m.forest_ = cv::ml::RTrees::create();
     m.forest_->read(fs["forest"]);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument("colour model " + path + ": invalid (" + e.msg + ")");
   }
-  if (!m.forest_->isTrained() || m.forest_->getVarCount() != kBlobFeatureCount) {
+  if (!m.forest_->isTrained() || m.forest_->getVarCount() != m.feature_count_) {
     throw std::invalid_argument("colour model " + path + ": holds no trained forest of " +
-                                std::to_string(kBlobFeatureCount) + " features");
+                                std::to_string(m.feature_count_) + " features");
   }
   return m;
 }
@@ -98,7 +101,8 @@ void ColourModel::save(const std::string& path) const {
   cv::FileStorage fs(path, cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw std::runtime_error("colour model " + path + ": cannot be written");
   fs << "colours" << colours_;
-  fs << "features" << blobFeatureNames();
+  const std::vector<std::string>& names = blobFeatureNames();
+  fs << "features" << std::vector<std::string>(names.begin(), names.begin() + feature_count_);
   fs << "forest" << "{";
   forest_->write(fs);
   fs << "}";
@@ -112,7 +116,8 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
                                 " features, got " + std::to_string(features.cols) + " columns");
   }
   cv::Mat votes;
-  forest_->getVotes(features, votes, 0);
+  forest_->getVotes(feature_count_ == features.cols ? features : cv::Mat(features.colRange(0, feature_count_).clone()),
+                    votes, 0);
   // Row 0: the class labels; row 1 + i: the votes for each, for region i. The best colour is reported with its
   // share even when background has more votes: the caller's threshold (colour_model.min_confidence) decides.
   std::vector<ColourVerdict> verdicts(features.rows);

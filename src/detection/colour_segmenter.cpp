@@ -55,6 +55,7 @@ std::vector<std::string> ColourMaskConfig::validate() const {
     if (c.saturation_min > c.saturation_max) p.push_back(n + ".saturation: min > max");
     if (c.value_min > c.value_max) p.push_back(n + ".value: min > max");
     if (!(c.min_contrast >= 0 && c.min_contrast <= 10)) p.push_back(n + ".min_contrast must be in [0, 10]");
+    if (!(c.min_confidence >= 0 && c.min_confidence <= 1)) p.push_back(n + ".min_confidence must be in [0, 1]");
     if (!(c.min_size_m >= 0 && c.max_size_m >= 0 && (c.max_size_m == 0 || c.max_size_m > c.min_size_m) &&
           c.max_size_m <= 100)) {
       p.push_back(n + ".size_m: need 0 <= min < max <= 100 (0 = no limit)");

@@ -17,7 +17,7 @@ namespace {
 
 /// Reads one colour class; returns false when it has no hue range (only a learnt colour model needs none).
 bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path, ColourClass& c) {
-  f.onlyKeys(node, path, {"name", "hue", "saturation", "value", "min_contrast", "size_m"});
+  f.onlyKeys(node, path, {"name", "hue", "saturation", "value", "min_contrast", "size_m", "min_confidence"});
   if (!node.IsMap()) return true;
   f.required(node, "name", path, c.name);
   std::vector<double> hue{double(c.hue_min), double(c.hue_max)}, sat{double(c.saturation_min), double(c.saturation_max)},
@@ -26,6 +26,7 @@ bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
   f.optionalVector(node, "saturation", path, sat, 2);
   f.optionalVector(node, "value", path, val, 2);
   f.optional(node, "min_contrast", path, c.min_contrast);
+  f.optional(node, "min_confidence", path, c.min_confidence);
   std::vector<double> size{c.min_size_m, c.max_size_m};
   f.optionalVector(node, "size_m", path, size, 2);
   c.min_size_m = size[0];

@@ -106,10 +106,13 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   LearnedSearch out;
   out.contrast = std::move(proposed.contrast);
   // The model's colour k is the config's class designated[k] (-1: learnt but not designated here).
+  // Its votes needed: the class's own min_confidence, else the model's.
   std::vector<int> designated;
+  std::vector<double> needed;
   for (const std::string& name : config.model->colours()) {
     const auto it = std::find_if(classes.begin(), classes.end(), [&](const ColourClass& c) { return c.name == name; });
     designated.push_back(it == classes.end() ? -1 : static_cast<int>(it - classes.begin()));
+    needed.push_back(it != classes.end() && it->min_confidence > 0 ? it->min_confidence : config.min_confidence);
   }
   struct Named {
     BlobProposal proposal;
@@ -124,14 +127,14 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
     BlobProposal& b = proposed.regions[i];
     const ColourVerdict& v = verdicts[i];
-    if (v.colour < 0 || v.confidence < kExplainShare * config.min_confidence) continue;
+    if (v.colour < 0 || v.confidence < kExplainShare * needed[v.colour]) continue;
     const std::string colour = config.model->colours()[v.colour];
     if (designated[v.colour] < 0) {
       out.rejected.push_back({b.roi, colour, v.confidence, "colour not designated in this configuration"});
-    } else if (v.confidence < config.min_confidence) {
+    } else if (v.confidence < needed[v.colour]) {
       out.rejected.push_back({b.roi, colour, v.confidence,
-                              formatted("colour confidence %.2f under colour_model.min_confidence %.2f", v.confidence,
-                                        config.min_confidence)});
+                              formatted("colour confidence %.2f under its min_confidence %.2f", v.confidence,
+                                        needed[v.colour])});
     } else {
       named.push_back({std::move(b), v});
     }

@@ -19,6 +19,7 @@
 
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/colour_learning.h"
+#include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
 
 using namespace underwater_stereo;
@@ -39,9 +40,16 @@ const char* kUsage =
     "  --seed S            fold assignment and forest seed (default 1)\n"
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
+    "  --zoom N            and from N copies seen nearer (1.3-2x, around a labelled object; default 0)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
     "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
     "                      (one table; from the same folds, to choose min_confidence)\n"
+    "  --choose-thresholds a,b,...   a min_confidence per colour from these values, chosen by cross-validation\n"
+    "                      (the best mean recall per colour with at most --max-false per frame): inside each\n"
+    "                      fold's training frames for its figures, on all frames for the written config\n"
+    "  --max-false X       false detections per frame allowed when choosing thresholds (default 0.3)\n"
+    "  --detections-out F  the cross-validated (held-out) detections as JSON lines like detect_files' (to score\n"
+    "                      or draw them: scripts/evaluate_transdec --detections F)\n"
     "Exit status: 0 written, 1 bad labels or images, 2 bad options or configuration.\n";
 
 struct Options {
@@ -51,6 +59,9 @@ struct Options {
   int folds = 5;
   double min_confidence = -1;
   std::vector<double> sweep;
+  std::vector<double> choose;  ///< per-colour thresholds chosen from these (ascending)
+  double max_false = 0.3;
+  std::string detections_out;  ///< the held-out detections as JSON lines
   bool colours_given = false;
 };
 
@@ -98,6 +109,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--folds") o.folds = static_cast<int>(number(1, 100));
     else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
     else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
+    else if (arg == "--zoom") o.learning.zoom = static_cast<int>(number(0, 20));
     else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
     else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
@@ -107,6 +119,16 @@ Options parse(int argc, char** argv) {
       for (const std::string& item : split(v)) o.sweep.push_back(numberIn(item, 0.01, 1, "--sweep " + v + ": '" + item + "'"));
       if (o.sweep.empty()) throw std::invalid_argument("--sweep needs at least one value");
     }
+    else if (arg == "--choose-thresholds") {
+      for (const std::string& item : split(v)) {
+        o.choose.push_back(numberIn(item, 0.01, 1, "--choose-thresholds " + v + ": '" + item + "'"));
+      }
+      std::sort(o.choose.begin(), o.choose.end());
+      o.choose.erase(std::unique(o.choose.begin(), o.choose.end()), o.choose.end());
+      if (o.choose.empty()) throw std::invalid_argument("--choose-thresholds needs at least one value");
+    }
+    else if (arg == "--max-false") o.max_false = number(0, 100);
+    else if (arg == "--detections-out") o.detections_out = v;
     else throw std::invalid_argument("unknown option " + arg);
   }
   if (o.images.empty() || o.images.size() != o.annotations.size()) {
@@ -114,6 +136,12 @@ Options parse(int argc, char** argv) {
   }
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
+  if (!o.choose.empty() && o.folds < 2) {
+    throw std::invalid_argument("--choose-thresholds needs cross-validation (--folds 2 or more)");
+  }
+  if (!o.choose.empty() && o.min_confidence > 0) {
+    throw std::invalid_argument("give --min-confidence or --choose-thresholds, not both");
+  }
   return o;
 }
 
@@ -181,9 +209,13 @@ void printScore(const LearningScore& s, const LearningOptions& options, const st
   }
   const int labelled = std::accumulate(s.labelled.begin(), s.labelled.end(), 0);
   const int found = std::accumulate(s.found.begin(), s.found.end(), 0);
-  std::printf("| **all** | %d | %d | %.1f |\n\nunlabelled or false detections: %d in %d frames (%.2f per frame)\n",
+  std::printf("| **all** | %d | %d | %.1f |\n\nunlabelled or false detections: %d in %d frames (%.2f per frame;",
               labelled, found, 100.0 * s.recall(), s.false_detections, s.frames,
               s.frames ? double(s.false_detections) / s.frames : 0.0);
+  for (std::size_t k = 0; k < options.colours.size(); ++k) {
+    std::printf("%s %s %d", k ? "," : "", options.colours[k].c_str(), s.false_by_colour[k]);
+  }
+  std::printf(")\n");
   std::printf("\nconfusion (rows: labelled colour; columns: detected colour at the label, or missed)\n\n| |");
   for (const auto& c : options.colours) std::printf(" %s |", c.c_str());
   std::printf(" missed |\n|---|");
@@ -207,8 +239,10 @@ void printSweep(const std::vector<double>& thresholds, const std::vector<Learnin
                 const LearningOptions& options) {
   std::printf("\ncross-validated by min_confidence (recall %%)\n\n| min_confidence |");
   for (const auto& c : options.colours) std::printf(" %s |", c.c_str());
-  std::printf(" all | false per frame |\n|---|");
-  for (std::size_t k = 0; k < options.colours.size() + 2; ++k) std::printf("---|");
+  std::printf(" all | false per frame |");
+  for (const auto& c : options.colours) std::printf(" false %s |", c.c_str());
+  std::printf("\n|---|");
+  for (std::size_t k = 0; k < 2 * options.colours.size() + 2; ++k) std::printf("---|");
   std::printf("\n");
   for (std::size_t t = 0; t < thresholds.size(); ++t) {
     const LearningScore& s = totals[t];
@@ -216,28 +250,77 @@ void printSweep(const std::vector<double>& thresholds, const std::vector<Learnin
     for (std::size_t k = 0; k < options.colours.size(); ++k) {
       std::printf(" %.1f |", s.labelled[k] ? 100.0 * s.found[k] / s.labelled[k] : 0.0);
     }
-    std::printf(" %.1f | %.2f |\n", 100.0 * s.recall(), s.frames ? double(s.false_detections) / s.frames : 0.0);
+    std::printf(" %.1f | %.2f |", 100.0 * s.recall(), s.frames ? double(s.false_detections) / s.frames : 0.0);
+    for (int f : s.false_by_colour) std::printf(" %d |", f);
+    std::printf("\n");
   }
+}
+
+/// `indices` shuffled by `seed` and dealt into `folds` folds (by frame).
+std::vector<std::vector<std::size_t>> foldsOf(const std::vector<std::size_t>& indices, int folds, unsigned seed) {
+  std::vector<std::size_t> fold(indices.size());
+  std::iota(fold.begin(), fold.end(), 0);
+  std::mt19937 rng(seed);
+  std::shuffle(fold.begin(), fold.end(), rng);
+  std::vector<std::vector<std::size_t>> out(static_cast<std::size_t>(folds));
+  for (std::size_t i = 0; i < indices.size(); ++i) out[fold[i] % out.size()].push_back(indices[i]);
+  return out;
+}
+
+std::string thresholdsText(const std::vector<double>& t, const LearningOptions& options) {
+  std::string out;
+  for (std::size_t k = 0; k < t.size(); ++k) out += (k ? ", " : "") + options.colours[k] + " " + formatted(t[k]);
+  return out;
+}
+
+/// `x` in the fewest digits that read back as x.
+std::string shortest(double x) {
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, x);
+    if (std::stod(text) == x) break;
+  }
+  return text;
+}
+
+/// Held-out detections counted at `min_confidence` (per colour) as detect_files' JSON lines, for scripts/evaluate_transdec --detections; nothing when `out` is not open.
+void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector<std::vector<Detection>>& detections,
+                     const std::vector<double>& min_confidence, const LearningOptions& options, std::ofstream& out) {
+  if (!out.is_open()) return;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    int id = 0;
+    for (const Detection& d : detections[f]) {
+      const auto it = std::find(options.colours.begin(), options.colours.end(), d.colour);
+      if (it == options.colours.end() || d.confidence < min_confidence[it - options.colours.begin()]) continue;
+      out << detectionJson(frames[f].name, id++, d, QualityReport{}, false) << "\n";
+    }
+  }
+  if (!out) throw std::runtime_error("--detections-out: cannot be written");
 }
 
 /// The base configuration file with the learnt colours and model, as YAML.
 void writeConfig(const std::string& base_path, const std::string& out, const std::string& model_name,
-                 const LearningOptions& options, double min_confidence) {
+                 const LearningOptions& options, double min_confidence, const std::vector<double>& per_colour) {
   YAML::Node root = YAML::LoadFile(base_path);
   YAML::Node colours(YAML::NodeType::Sequence);
-  for (const std::string& name : options.colours) {
+  for (std::size_t k = 0; k < options.colours.size(); ++k) {
+    const std::string& name = options.colours[k];
     YAML::Node entry;
     for (const auto& c : root["colours"]) {
       if (c["name"] && c["name"].as<std::string>() == name) entry = YAML::Clone(c);
     }
     if (!entry) entry["name"] = name;
+    // A threshold of the base's belongs to the base's model: the new one's are chosen here or none.
+    entry.remove("min_confidence");
+    // Thresholds as written on the command line (0.35, not 0.34999999999999998).
+    if (!per_colour.empty()) entry["min_confidence"] = shortest(per_colour[k]);
     entry.SetStyle(YAML::EmitterStyle::Flow);
     colours.push_back(entry);
   }
   root["colours"] = colours;
   root["candidates"]["source"] = "learned";
   root["colour_model"]["file"] = model_name;
-  if (min_confidence > 0) root["colour_model"]["min_confidence"] = min_confidence;
+  if (min_confidence > 0) root["colour_model"]["min_confidence"] = shortest(min_confidence);
   std::ofstream file(out);
   file << "# Learnt by learn_colours from labelled frames (see README, 'A new pool'); the colour model is in "
        << model_name << ".\n"
@@ -282,48 +365,112 @@ int main(int argc, char** argv) {
     std::printf("%zu frames; the detector's proposals cover %d of %d labelled objects (the most it can find)\n",
                 frames.size(), proposed, objects);
     const double min_confidence = o.min_confidence > 0 ? o.min_confidence : base.learned.min_confidence;
-    auto configWith = [&](const ColourModel& m, double confidence) {
+    auto configWith = [&](const ColourModel& m, double confidence, const std::vector<double>& per_colour) {
       DetectorConfig c = learnedConfig(base, o.out, std::make_shared<const ColourModel>(m), o.learning);
       c.learned.min_confidence = confidence;
+      for (std::size_t k = 0; k < per_colour.size(); ++k) c.colours.classes[k].min_confidence = per_colour[k];
       return c;
     };
+    auto samplesOfFrames = [&](const std::vector<std::size_t>& indices) {
+      std::vector<const FrameSamples*> out;
+      for (std::size_t i : indices) out.push_back(&samples[i]);
+      return out;
+    };
+    auto framesOf = [&](const std::vector<std::size_t>& indices) {
+      std::vector<LabelledFrame> out;
+      for (std::size_t i : indices) out.push_back(frames[i]);
+      return out;
+    };
+    // Per-colour thresholds chosen by cross-validation within `indices` (frames) alone: each of its folds
+    // detected by a model learnt from the others at the grid's lowest threshold, the combination chosen on all.
+    auto chooseWithin = [&](const std::vector<std::size_t>& indices, unsigned seed) {
+      const std::vector<std::vector<std::size_t>> parts = foldsOf(indices, o.folds, seed);
+      std::vector<LabelledFrame> ordered;
+      std::vector<std::vector<Detection>> detections;
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        std::vector<std::size_t> train;
+        for (std::size_t j = 0; j < parts.size(); ++j) {
+          if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
+        }
+        const Detector d(configWith(trainOn(samplesOfFrames(train), o.learning), o.choose.front(), {}));
+        const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
+        const auto found = detectionsOf(d, held_out);
+        ordered.insert(ordered.end(), held_out.begin(), held_out.end());
+        detections.insert(detections.end(), found.begin(), found.end());
+      }
+      return chooseThresholds(ordered, detections, o.learning, o.choose, o.max_false);
+    };
+    std::vector<std::size_t> everything(frames.size());
+    std::iota(everything.begin(), everything.end(), 0);
+    const unsigned seed = static_cast<unsigned>(o.learning.training.seed);
     if (o.folds > 1) {
       // One detection pass per fold at the lowest threshold asked for, scored at each (scoreAt).
       std::vector<double> thresholds = o.sweep;
       thresholds.push_back(min_confidence);
       std::sort(thresholds.begin(), thresholds.end());
       thresholds.erase(std::unique(thresholds.begin(), thresholds.end()), thresholds.end());
-      std::vector<int> fold(frames.size());
-      std::iota(fold.begin(), fold.end(), 0);
-      std::mt19937 rng(static_cast<unsigned>(o.learning.training.seed));
-      std::shuffle(fold.begin(), fold.end(), rng);
+      const std::vector<std::vector<std::size_t>> parts = foldsOf(everything, o.folds, seed);
       std::vector<LearningScore> totals(thresholds.size());
-      for (int k = 0; k < o.folds; ++k) {
-        std::vector<const FrameSamples*> train;
-        std::vector<LabelledFrame> held_out;
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-          if (fold[i] % o.folds == k) held_out.push_back(frames[i]);
-          else train.push_back(&samples[i]);
-        }
-        const Detector fold_detector(configWith(trainOn(train, o.learning), thresholds.front()));
-        const std::vector<LearningScore> scores = scoreAt(fold_detector, held_out, o.learning, thresholds);
-        for (std::size_t t = 0; t < thresholds.size(); ++t) totals[t].add(scores[t]);
+      LearningScore chosen_total;
+      std::ofstream held_out_detections;
+      if (!o.detections_out.empty()) {
+        held_out_detections.open(o.detections_out);
+        if (!held_out_detections) throw std::runtime_error("--detections-out " + o.detections_out + ": cannot be written");
       }
+      for (std::size_t k = 0; k < parts.size(); ++k) {
+        std::vector<std::size_t> train;
+        for (std::size_t j = 0; j < parts.size(); ++j) {
+          if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
+        }
+        const ColourModel model = trainOn(samplesOfFrames(train), o.learning);
+        const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
+        if (!o.choose.empty()) {
+          // Thresholds from the training folds only (inner cross-validation), judged on the held-out fold.
+          const ThresholdChoice choice = chooseWithin(train, seed * 31U + static_cast<unsigned>(k) + 1U);
+          std::printf("fold %zu: min_confidence %s chosen on its training frames\n", k + 1,
+                      thresholdsText(choice.min_confidence, o.learning).c_str());
+          const Detector chosen(configWith(model, o.choose.front(), choice.min_confidence));
+          const auto found = detectionsOf(chosen, held_out);
+          chosen_total.add(scoreDetections(held_out, found, o.learning, choice.min_confidence));
+          writeDetections(held_out, found, choice.min_confidence, o.learning, held_out_detections);
+        }
+        if (!o.choose.empty() && o.sweep.empty()) continue;  // no single threshold to score
+        const Detector fold_detector(configWith(model, thresholds.front(), {}));
+        const auto found = detectionsOf(fold_detector, held_out);
+        for (std::size_t t = 0; t < thresholds.size(); ++t) {
+          totals[t].add(scoreDetections(held_out, found, o.learning, std::vector<double>(o.learning.colours.size(), thresholds[t])));
+        }
+        if (o.choose.empty()) {
+          writeDetections(held_out, found, std::vector<double>(o.learning.colours.size(), min_confidence), o.learning,
+                          held_out_detections);
+        }
+      }
+      const std::string heading = std::to_string(o.folds) + "-fold cross-validation by frame (" +
+                                  std::to_string(frames.size()) + " frames; labels under " +
+                                  std::to_string(o.learning.min_label_px) + " px tall not counted; ";
       const std::size_t chosen = std::find(thresholds.begin(), thresholds.end(), min_confidence) - thresholds.begin();
-      printScore(totals[chosen], o.learning,
-                 std::to_string(o.folds) + "-fold cross-validation by frame (" + std::to_string(frames.size()) +
-                     " frames; labels under " + std::to_string(o.learning.min_label_px) +
-                     " px tall not counted; min_confidence " + formatted(min_confidence) + ")");
+      // With thresholds chosen per colour the base's single one means nothing: only those are scored.
+      if (o.choose.empty()) printScore(totals[chosen], o.learning, heading + "min_confidence " + formatted(min_confidence) + ")");
       if (!o.sweep.empty()) printSweep(thresholds, totals, o.learning);
+      if (!o.choose.empty()) {
+        printScore(chosen_total, o.learning,
+                   heading + "per-colour min_confidence chosen in each fold by cross-validation on its training frames)");
+      }
     }
-    std::vector<const FrameSamples*> all;
-    for (const FrameSamples& s : samples) all.push_back(&s);
-    const ColourModel model = trainOn(all, o.learning);
+    std::vector<double> per_colour;
+    if (!o.choose.empty()) {
+      const ThresholdChoice choice = chooseWithin(everything, seed * 31U);
+      per_colour = choice.min_confidence;
+      std::printf("\nmin_confidence per colour chosen by %d-fold cross-validation on all frames: %s\n", o.folds,
+                  thresholdsText(per_colour, o.learning).c_str());
+    }
+    const ColourModel model = trainOn(samplesOfFrames(everything), o.learning);
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
     const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)
     model.save(model_path);
-    writeConfig(o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning, o.min_confidence);
+    writeConfig(o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning,
+                o.choose.empty() ? o.min_confidence : o.choose.front(), per_colour);
     loadDetectorConfigFile(o.out);  // what was written must load
     std::printf("\nwrote %s and %s\n", o.out.c_str(), model_path.c_str());
   } catch (const std::exception& e) {

@@ -35,7 +35,7 @@ struct BlobProposal {
 };
 
 /// Number and names of the features of a proposal, in order (stored with a learnt model to check it).
-constexpr int kBlobFeatureCount = 30;
+constexpr int kBlobFeatureCount = 36;
 const std::vector<std::string>& blobFeatureNames();
 
 /// Regions of `bgr` (the searched image, 8-bit BGR) measured by `contrast` (measureWaterContrast of it).

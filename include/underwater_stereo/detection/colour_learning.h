@@ -39,6 +39,8 @@ struct LearningOptions {
   int min_label_px = 15;
   /// Each frame is also learnt from this many copies seen through other water (augmentedWater()).
   int augment = 2;
+  /// And from this many copies seen nearer (zoomedIn()): near objects are few in most labelled sets.
+  int zoom = 0;
   ColourModelTraining training;
 
   std::vector<std::string> validate() const;
@@ -57,6 +59,11 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
 /// overall exposure of 0.7-1.3. Labels stay valid (no geometry changes).
 cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed);
 
+/// `frame` as if seen from nearer, drawn from `seed`: enlarged 1.3-2x and cut back to its size around one of its
+/// labelled objects of a colour (anywhere when it has none); labels scaled, clipped to the window, those outside
+/// it dropped.
+LabelledFrame zoomedIn(const LabelledFrame& frame, unsigned seed, const LearningOptions& options);
+
 /// Training rows of one frame: the detector's proposals with their features and label (-1 background,
 /// k colour k); proposals that half-overlap a labelled object, or overlap a too-small one, are left out.
 struct FrameSamples {
@@ -74,6 +81,7 @@ struct LearningScore {
   std::vector<int> labelled, found;  ///< per colour (labels >= min_label_px)
   int frames = 0;
   int false_detections = 0;          ///< detections matching no label of their colour (nor a small one)
+  std::vector<int> false_by_colour;  ///< of them, per detected colour (options.colours' order)
   /// confusion[true colour][detected colour]; the last column counts missed labels.
   std::vector<std::vector<int>> confusion;
   void add(const LearningScore& other);
@@ -89,8 +97,31 @@ LearningScore score(const Detector& detector, const std::vector<LabelledFrame>& 
 std::vector<LearningScore> scoreAt(const Detector& detector, const std::vector<LabelledFrame>& frames,
                                    const LearningOptions& options, const std::vector<double>& min_confidences);
 
+/// Each frame's 2D detections (Detector::detect2d), in the frames' order.
+std::vector<std::vector<Detection>> detectionsOf(const Detector& detector, const std::vector<LabelledFrame>& frames);
+
+/// Scores `detections` (one list per frame) counting those of colour k with confidence >= min_confidence[k].
+/// @throw std::invalid_argument when the counts of lists or thresholds do not match.
+LearningScore scoreDetections(const std::vector<LabelledFrame>& frames,
+                              const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                              const std::vector<double>& min_confidence);
+
+/// Per-colour thresholds and their score.
+struct ThresholdChoice {
+  std::vector<double> min_confidence;  ///< one per colour (options.colours' order)
+  LearningScore score;
+};
+/// Of every combination of per-colour thresholds from `grid`, the one with the best mean per-colour recall (then
+/// overall recall, then fewest false) among those with at most `max_false_per_frame` false detections per frame
+/// (the fewest false when none has so few). `detections` must come from a detector whose thresholds are at most
+/// grid's smallest; a region suppressed there by a more confident one of another colour stays suppressed.
+/// @throw std::invalid_argument when there are more than 1e5 combinations.
+ThresholdChoice chooseThresholds(const std::vector<LabelledFrame>& frames,
+                                 const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
+                                 const std::vector<double>& grid, double max_false_per_frame);
+
 /// `base` with candidates.source learned and `model` (loaded from `model_file`), colours = options.colours
-/// (the base's entries kept for colours it has).
+/// (the base's entries kept for colours it has, but their min_confidence: the base model's).
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
                              std::shared_ptr<const ColourModel> model, const LearningOptions& options);
 

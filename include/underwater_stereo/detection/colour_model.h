@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/detection/blob_proposals.h"
+
 namespace underwater_stereo {
 
 struct ColourVerdict {
@@ -55,6 +57,7 @@ class ColourModel {
  private:
   std::vector<std::string> colours_;
   cv::Ptr<cv::ml::RTrees> forest_;
+  int feature_count_ = kBlobFeatureCount;  ///< it reads the first this many features (a model of an earlier build: fewer)
 };
 
 }  // namespace underwater_stereo

@@ -27,6 +27,9 @@ struct ColourClass {
   /// [m] an object of this colour measures at least / at most this across its largest side; 0 = no limit.
   double min_size_m = 0.0;
   double max_size_m = 0.0;
+  /// With a learnt colour model: share of trees that must vote for this colour; 0 = colour_model.min_confidence.
+  /// learn_colours chooses one per colour by cross-validation (a rare colour needs fewer votes).
+  double min_confidence = 0.0;
 
   /// Whether hue `h` (0-179) lies in [hue_min, hue_max], through 0 when the range wraps.
   bool admitsHue(int h) const { return hue_min <= hue_max ? (h >= hue_min && h <= hue_max) : (h >= hue_min || h <= hue_max); }
