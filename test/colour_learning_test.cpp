@@ -293,8 +293,12 @@ TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {
       const cv::Point c(l.box.x + l.box.width / 2, l.box.y + l.box.height / 2);
       if (l.box.width < 10 || l.box.height < 10 || l.box.width != l.box.height) continue;  // cut by the border
       const cv::Vec3b p = z.image.at<cv::Vec3b>(c);
-      if (l.name == "buoy_red") EXPECT_GT(p[2], p[1]) << "red at the red label's centre";
-      if (l.name == "buoy_green") EXPECT_GT(p[1], p[2]) << "green at the green label's centre";
+      if (l.name == "buoy_red") {
+        EXPECT_GT(p[2], p[1]) << "red at the red label's centre";
+      }
+      if (l.name == "buoy_green") {
+        EXPECT_GT(p[1], p[2]) << "green at the green label's centre";
+      }
     }
   }
 }

@@ -140,5 +140,10 @@ TEST(ShapeFitter, TooFewPointsIsUnknownWithTheirCentroid) {
 
 TEST(ShapeFitter, InvalidConfigIsReported) {
   EXPECT_TRUE(ShapeFitConfig{}.validate().empty());
-  EXPECT_EQ((ShapeFitConfig{1, 0.5, 0.5, 0}.validate().size()), 4U);
+  ShapeFitConfig bad;
+  bad.min_points = 1;
+  bad.plane_preference = 0.5;
+  bad.min_elongation = 0.5;
+  bad.box_face_contrast = 0;
+  EXPECT_EQ(bad.validate().size(), 4U);
 }
