@@ -16,14 +16,6 @@ constexpr int kBackground = 0;
 
 }  // namespace
 
-std::vector<std::string> ColourModelTraining::validate() const {
-  std::vector<std::string> p;
-  if (trees < 1 || trees > 2000) p.push_back("trees must be in [1, 2000]");
-  if (max_depth < 1 || max_depth > 30) p.push_back("max_depth must be in [1, 30]");
-  if (!(balance >= 0 && balance <= 1)) p.push_back("balance must be in [0, 1]");
-  return p;
-}
-
 ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& labels,
                                const std::vector<std::string>& colours, const ColourModelTraining& options) {
   const auto problems = options.validate();
@@ -50,15 +42,9 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
     priors.at<float>(static_cast<int>(k)) =
         static_cast<float>(std::pow(double(counts[kBackground]) / counts[k], options.balance));
   }
-  cv::theRNG().state = static_cast<std::uint64_t>(options.seed);
   ColourModel m;
   m.colours_ = colours;
-  m.forest_ = cv::ml::RTrees::create();
-  m.forest_->setMaxDepth(options.max_depth);
-  m.forest_->setMinSampleCount(2);
-  m.forest_->setPriors(priors);
-  m.forest_->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, options.trees, 0));
-  m.forest_->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
+  m.forest_ = trainForest(samples, responses, priors, options);
   return m;
 }
 

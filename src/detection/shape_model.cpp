@@ -22,14 +22,6 @@ int labelOf(ShapeKind shape) {
 
 }  // namespace
 
-std::vector<std::string> ShapeModelTraining::validate() const {
-  std::vector<std::string> p;
-  if (trees < 1 || trees > 2000) p.push_back("trees must be in [1, 2000]");
-  if (max_depth < 1 || max_depth > 30) p.push_back("max_depth must be in [1, 30]");
-  if (!(balance >= 0 && balance <= 1)) p.push_back("balance must be in [0, 1]");
-  return p;
-}
-
 ShapeModel ShapeModel::train(const cv::Mat& samples, const std::vector<ShapeKind>& labels,
                              const ShapeModelTraining& options) {
   const auto problems = options.validate();
@@ -54,14 +46,8 @@ ShapeModel ShapeModel::train(const cv::Mat& samples, const std::vector<ShapeKind
   for (std::size_t k = 0; k < kShapes.size(); ++k) {
     priors.at<float>(static_cast<int>(k)) = static_cast<float>(std::pow(double(most) / counts[k], options.balance));
   }
-  cv::theRNG().state = static_cast<std::uint64_t>(options.seed);
   ShapeModel m;
-  m.forest_ = cv::ml::RTrees::create();
-  m.forest_->setMaxDepth(options.max_depth);
-  m.forest_->setMinSampleCount(2);
-  m.forest_->setPriors(priors);
-  m.forest_->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, options.trees, 0));
-  m.forest_->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
+  m.forest_ = trainForest(samples, responses, priors, options);
   return m;
 }
 

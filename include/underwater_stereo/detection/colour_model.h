@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/blob_proposals.h"
+#include "underwater_stereo/detection/forest_training.h"
 
 namespace underwater_stereo {
 
@@ -23,15 +24,8 @@ struct ColourVerdict {
   double confidence = 0.0;  ///< share of the trees voting for the best colour (0-1)
 };
 
-struct ColourModelTraining {
-  int trees = 100;
-  int max_depth = 10;
-  /// Colour classes are rarer than background; each is weighted by (background count / its count)^balance.
-  double balance = 0.6;
-  int seed = 1;
-
-  std::vector<std::string> validate() const;
-};
+/// Training options of the colour model (the background is the reference class of `balance`).
+using ColourModelTraining = ForestTraining;
 
 class ColourModel {
  public:

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/detection/forest_training.h"
 #include "underwater_stereo/detection/shape_kind.h"
 
 namespace underwater_stereo {
@@ -23,14 +24,13 @@ struct ShapeVerdict {
   double confidence = 0.0;                ///< share of the trees voting for it (0-1)
 };
 
-struct ShapeModelTraining {
-  int trees = 100;
-  int max_depth = 12;
-  /// Each shape is weighted by (largest shape count / its count)^balance.
-  double balance = 1.0;
-  int seed = 1;
-
-  std::vector<std::string> validate() const;
+/// Training options of the shape model: deeper trees, and each shape weighted by (largest shape count / its
+/// count)^balance.
+struct ShapeModelTraining : ForestTraining {
+  ShapeModelTraining() {
+    max_depth = 12;
+    balance = 1.0;
+  }
 };
 
 class ShapeModel {
