@@ -331,9 +331,11 @@ double outlineElongation(const std::vector<Eigen::Vector3d>& rays) {
 /// The hand-made decision (no shape model): stereo smoothing flattens smooth curved surfaces, so the 2D outline
 /// decides close calls: a round outline is a sphere unless the plane is clearly better, anything else a plane
 /// unless the curve is. Flat faces of clearly different shading: a box, whatever its outline (a box seen
-/// corner-on is a hexagon, close to an ellipse). `curved`: the cylinder for an elongated outline, else the sphere.
+/// corner-on is a hexagon, close to an ellipse). `curved`: the cylinder for an elongated outline, else the sphere;
+/// `unknown`: what is reported when neither fits.
 ShapeFit handMadeDecision(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const OutlineCues& cues,
-                          const ShapeFitConfig& config, const Scored& plane, const Scored& curved) {
+                          const ShapeFitConfig& config, const Scored& plane, const Scored& curved,
+                          const ShapeFit& unknown) {
   const bool curved_ok = curved.fit.shape != ShapeKind::kUnknown && curved.fit.centre.allFinite();
   if (cues.face_contrast >= config.box_face_contrast) return fitBox(pts, p).fit;
   const bool round = cues.outline == OutlineKind::kCircle || cues.outline == OutlineKind::kEllipse;
@@ -342,12 +344,6 @@ ShapeFit handMadeDecision(const std::vector<Eigen::Vector3d>& pts, const Pca& p,
   if (curved_ok && curved_wins) return curved.fit;
   if (plane.fit.shape != ShapeKind::kUnknown) return plane.fit;
   if (curved_ok) return curved.fit;
-  ShapeFit unknown;
-  unknown.centre = p.mean;
-  for (int i = 0; i < 3; ++i) {
-    const auto [lo, hi] = span(pts, Eigen::Vector3d::Unit(i));
-    unknown.size[i] = hi - lo;
-  }
   return unknown;
 }
 
@@ -463,7 +459,7 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   else if (learnt == ShapeKind::kPlane && usable(plane)) chosen = plane.fit;
   else if (learnt == ShapeKind::kSphere && usable(sphere)) chosen = sphere.fit;
   else if (learnt == ShapeKind::kCylinder && usable(cylinder)) chosen = cylinder.fit;
-  else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere);
+  else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere, unknown);
   chosen.features = std::move(features);
   return chosen;
 }
