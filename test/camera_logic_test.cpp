@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The camera logic that needs no camera: pairing, frame-id gaps, clock mapping, feature-name fallback.
+// The camera logic that needs no camera: pairing, frame-id gaps, clock mapping, feature-name fallback, trigger
+// schedule.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -12,6 +13,7 @@
 #include "underwater_stereo/camera/frame_id_tracker.h"
 #include "underwater_stereo/camera/frame_pairer.h"
 #include "underwater_stereo/camera/genicam_features.h"
+#include "underwater_stereo/camera/trigger_schedule.h"
 
 using namespace underwater_stereo;
 
@@ -61,6 +63,29 @@ TEST(FramePairer, FramesOutsideTheSkewNeverPairAndWaitingIsBounded) {
   p.setMaxSkewNs(10'000'000);  // a slower free-run rate: half its period
   EXPECT_TRUE(p.add(Pairer::kLeft, 510'000'000 + 6'000'000, 9)) << "6 ms from right 5: within the new 10 ms";
   EXPECT_EQ(p.pairs(), 1U);
+}
+
+TEST(TriggerSchedule, TicksHalfAPeriodOffTheWallClocksMultiplesAndFollowAClockStep) {
+  const TriggerSchedule at15(15.0);
+  EXPECT_EQ(at15.periodUs(), 66'667) << "whole microseconds";
+  const std::int64_t base = 1'796'000'000LL * 1'000'000 / 66'667 * 66'667;  // a multiple of the period
+  EXPECT_EQ(at15.nextAfter(base), base + 33'333);
+  EXPECT_EQ(at15.nextAfter(base + 33'332), base + 33'333);
+  EXPECT_EQ(at15.nextAfter(base + 33'333), base + 33'333 + 66'667) << "strictly after";
+  EXPECT_EQ(at15.nextAfter(-1), 33'333);
+  EXPECT_EQ(at15.nextAfter(-40'000), 33'333 - 66'667) << "before the epoch too";
+  // The same ticks from anywhere in between, so two threads agree.
+  for (std::int64_t now = base + 40'000; now < base + 100'000; now += 7'001) {
+    EXPECT_EQ(at15.nextAfter(now), base + 33'333 + 66'667);
+  }
+  const std::int64_t tick = base + 33'333;
+  EXPECT_EQ(at15.keepOrRenew(tick, base + 1'000), tick) << "still ahead";
+  EXPECT_EQ(at15.keepOrRenew(tick, tick), tick + 66'667) << "reached: the next";
+  EXPECT_EQ(at15.keepOrRenew(tick, tick + 10 * 66'667 + 5), tick + 11 * 66'667) << "clock stepped forward: no burst";
+  EXPECT_EQ(at15.keepOrRenew(tick, tick - 5'000'000), at15.nextAfter(tick - 5'000'000)) << "clock stepped back";
+  EXPECT_EQ(TriggerSchedule(1e6).periodUs(), 1);
+  EXPECT_THROW(TriggerSchedule(0.0), std::invalid_argument);
+  EXPECT_THROW(TriggerSchedule(-1.0), std::invalid_argument);
 }
 
 TEST(FrameIdTracker, CountsGapsAcrossThe16BitWrapSkippingZero) {

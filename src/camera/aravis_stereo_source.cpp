@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/camera/camera_controls.h"
+#include "underwater_stereo/camera/trigger_schedule.h"
 #include "underwater_stereo/config/yaml_fields.h"
 
 namespace underwater_stereo {
@@ -39,17 +40,6 @@ namespace {
 std::int64_t hostNowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
-}
-
-/// The first software-trigger tick after `now`: the ticks lie on the steady clock at multiples of `period` plus
-/// half a period. Both camera threads compute the same ticks, so a pair's triggers go out together. The phase
-/// is arbitrary for a camera that exposes when triggered; half a period keeps the ticks clear of the round
-/// multiples, where a camera that serves triggers on its own grid of the same clock (Aravis' fake) wakes: a
-/// trigger sent just after such a wake-up races it, and one camera of the pair may serve it a period later.
-std::chrono::steady_clock::time_point nextTriggerTick(std::chrono::steady_clock::time_point now,
-                                                      std::chrono::steady_clock::duration period) {
-  const auto half = period / 2;
-  return std::chrono::steady_clock::time_point(((now.time_since_epoch() - half) / period + 1) * period + half);
 }
 
 bool sameExposure(const Exposure& a, const Exposure& b) {
@@ -288,34 +278,31 @@ void AravisStereoSource::runCamera(int s) {
     auto statistics_due = last_frame;
     std::string lost_reason;
     bool reopen = false;
-    // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (ticks of the steady
-    // clock), so a camera that hangs or vanishes never delays the other's trigger.
-    auto periodOf = [](double rate_hz) {
-      return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
-    };
-    auto period = periodOf(side.in_use.rate_hz);
-    auto tick = nextTriggerTick(std::chrono::steady_clock::now(), period);
+    // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (TriggerSchedule: ticks
+    // of the wall clock), so a camera that hangs or vanishes never delays the other's trigger.
+    TriggerSchedule schedule(side.in_use.rate_hz);
+    std::int64_t tick_us = schedule.nextAfter(hostNowNs() / 1000);
     while (running_) {
       if (!applyChanges(s, *camera)) {
         reopen = true;
         break;
       }
-      if (periodOf(side.in_use.rate_hz) != period) {
-        period = periodOf(side.in_use.rate_hz);
-        tick = nextTriggerTick(std::chrono::steady_clock::now(), period);
+      if (TriggerSchedule(side.in_use.rate_hz).periodUs() != schedule.periodUs()) {
+        schedule = TriggerSchedule(side.in_use.rate_hz);
+        tick_us = schedule.nextAfter(hostNowNs() / 1000);
       }
       int wait_ms = 100;
       if (config_.sync == TriggerMode::kSoftware) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now >= tick) {
+        const std::int64_t now_us = hostNowNs() / 1000;
+        if (now_us >= tick_us) {
           try {
             camera->trigger();
           } catch (const std::runtime_error&) {
             // Unreachable: the frame timeout below notices and reopens it.
           }
-          while (tick <= now) tick += period;
         }
-        wait_ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(tick - now).count()) + 1;
+        tick_us = schedule.keepOrRenew(tick_us, now_us);
+        wait_ms = static_cast<int>((tick_us - now_us + 999) / 1000);
       }
       if (std::chrono::steady_clock::now() >= statistics_due) {
         const CameraStatistics statistics = camera->statistics();

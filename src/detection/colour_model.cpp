@@ -45,6 +45,7 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   ColourModel m;
   m.colours_ = colours;
   m.forest_ = trainForest(samples, responses, priors, options);
+  m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
   return m;
 }
 
@@ -79,6 +80,11 @@ ColourModel ColourModel::load(const std::string& path) {
     throw std::invalid_argument("colour model " + path + ": holds no trained forest of " +
                                 std::to_string(m.feature_count_) + " features");
   }
+  try {
+    m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("colour model " + path + ": " + e.what());
+  }
   return m;
 }
 
@@ -101,21 +107,20 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
     throw std::invalid_argument("ColourModel::classify: need CV_32F rows of " + std::to_string(kBlobFeatureCount) +
                                 " features, got " + std::to_string(features.cols) + " columns");
   }
-  cv::Mat votes;
-  forest_->getVotes(feature_count_ == features.cols ? features : cv::Mat(features.colRange(0, feature_count_).clone()),
-                    votes, 0);
-  // Row 0: the class labels; row 1 + i: the votes for each, for region i. The best colour is reported with its
-  // share even when background has more votes: the caller's threshold (colour_model.min_confidence) decides.
+  // The best colour is reported with its share even when background has more votes: the caller's threshold
+  // (colour_model.min_confidence) decides.
+  const std::vector<int>& labels = votes_.labels();
+  std::vector<int> counts(labels.size());
   std::vector<ColourVerdict> verdicts(features.rows);
   for (int i = 0; i < features.rows; ++i) {
+    votes_.vote(features.ptr<float>(i), counts.data());
     ColourVerdict& v = verdicts[i];
     int total = 0, best = 0;
-    for (int j = 0; j < votes.cols; ++j) {
-      const int label = votes.at<int>(0, j), n = votes.at<int>(1 + i, j);
-      total += n;
-      if (label != kBackground && n > best) {
-        best = n;
-        v.colour = label - 1;
+    for (std::size_t j = 0; j < labels.size(); ++j) {
+      total += counts[j];
+      if (labels[j] != kBackground && counts[j] > best) {
+        best = counts[j];
+        v.colour = labels[j] - 1;
       }
     }
     v.confidence = total > 0 ? double(best) / total : 0.0;

@@ -48,6 +48,7 @@ ShapeModel ShapeModel::train(const cv::Mat& samples, const std::vector<ShapeKind
   }
   ShapeModel m;
   m.forest_ = trainForest(samples, responses, priors, options);
+  m.votes_ = ForestVotes(*m.forest_, kShapeFeatureCount);
   return m;
 }
 
@@ -76,6 +77,11 @@ ShapeModel ShapeModel::load(const std::string& path) {
   if (!m.forest_->isTrained() || m.forest_->getVarCount() != kShapeFeatureCount) {
     throw std::invalid_argument(what + "holds no trained forest of " + std::to_string(kShapeFeatureCount) + " features");
   }
+  try {
+    m.votes_ = ForestVotes(*m.forest_, kShapeFeatureCount);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(what + e.what());
+  }
   return m;
 }
 
@@ -98,17 +104,16 @@ ShapeVerdict ShapeModel::classify(const std::vector<float>& features) const {
     throw std::invalid_argument("ShapeModel::classify: need " + std::to_string(kShapeFeatureCount) + " features, got " +
                                 std::to_string(features.size()));
   }
-  cv::Mat votes;
-  forest_->getVotes(cv::Mat(1, kShapeFeatureCount, CV_32F, const_cast<float*>(features.data())), votes, 0);
-  // Row 0: the labels; row 1: the votes for each.
+  const std::vector<int>& labels = votes_.labels();
+  std::vector<int> counts(labels.size());
+  votes_.vote(features.data(), counts.data());
   ShapeVerdict v;
   int total = 0, best = 0;
-  for (int j = 0; j < votes.cols; ++j) {
-    const int label = votes.at<int>(0, j), n = votes.at<int>(1, j);
-    total += n;
-    if (n > best && label >= 0 && label < static_cast<int>(kShapes.size())) {
-      best = n;
-      v.shape = kShapes[label];
+  for (std::size_t j = 0; j < labels.size(); ++j) {
+    total += counts[j];
+    if (counts[j] > best && labels[j] >= 0 && labels[j] < static_cast<int>(kShapes.size())) {
+      best = counts[j];
+      v.shape = kShapes[labels[j]];
     }
   }
   v.confidence = total > 0 ? double(best) / total : 0.0;

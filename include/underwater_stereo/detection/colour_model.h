@@ -16,6 +16,7 @@
 
 #include "underwater_stereo/detection/blob_proposals.h"
 #include "underwater_stereo/detection/forest_training.h"
+#include "underwater_stereo/detection/forest_votes.h"
 
 namespace underwater_stereo {
 
@@ -43,14 +44,14 @@ class ColourModel {
   bool empty() const { return forest_.empty(); }
   const std::vector<std::string>& colours() const { return colours_; }
   /// For each row of `features` (CV_32F, kBlobFeatureCount columns: one region), its best colour and the share
-  /// of trees voting for it (-1 when no tree votes for any colour). All rows in one call: OpenCV's per-call cost
-  /// of getVotes exceeds a region's own with a few hundred regions per frame.
+  /// of trees voting for it (-1 when no tree votes for any colour); the trees are walked as ForestVotes.
   /// @throw std::invalid_argument when features has the wrong type or width, or the model is empty.
   std::vector<ColourVerdict> classify(const cv::Mat& features) const;
 
  private:
   std::vector<std::string> colours_;
-  cv::Ptr<cv::ml::RTrees> forest_;
+  cv::Ptr<cv::ml::RTrees> forest_;  ///< kept for save()
+  ForestVotes votes_;               ///< the same trees, walked by classify()
   int feature_count_ = kBlobFeatureCount;  ///< it reads the first this many features (a model of an earlier build: fewer)
 };
 

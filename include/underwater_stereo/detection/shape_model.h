@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/forest_training.h"
+#include "underwater_stereo/detection/forest_votes.h"
 #include "underwater_stereo/detection/shape_kind.h"
 
 namespace underwater_stereo {
@@ -51,7 +52,8 @@ class ShapeModel {
   ShapeVerdict classify(const std::vector<float>& features) const;
 
  private:
-  cv::Ptr<cv::ml::RTrees> forest_;
+  cv::Ptr<cv::ml::RTrees> forest_;  ///< kept for save()
+  ForestVotes votes_;               ///< the same trees, walked by classify()
 };
 
 }  // namespace underwater_stereo

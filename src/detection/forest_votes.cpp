@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "underwater_stereo/detection/forest_votes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace underwater_stereo {
+namespace {
+
+/// Probe samples for the check against getVotes: each feature at one of its own thresholds or just above it,
+/// so the probes take both branches at many nodes (0 for a feature no node splits on).
+cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
+  cv::Mat out(rows, static_cast<int>(thresholds.size()), CV_32F);
+  cv::RNG rng(12345);
+  for (int r = 0; r < rows; ++r) {
+    for (int f = 0; f < out.cols; ++f) {
+      const std::vector<float>& t = thresholds[f];
+      const float at = t.empty() ? 0.f : t[rng.uniform(0, static_cast<int>(t.size()))];
+      out.at<float>(r, f) = rng.uniform(0, 2) ? std::nextafter(at, 1e30f) : at;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) : feature_count_(feature_count) {
+  if (!forest.isTrained() || !forest.isClassifier() || forest.getVarCount() != feature_count || feature_count < 1) {
+    throw std::invalid_argument("ForestVotes: not a trained classifier over " + std::to_string(feature_count) + " features");
+  }
+  const std::vector<cv::ml::DTrees::Node>& nodes = forest.getNodes();
+  const std::vector<cv::ml::DTrees::Split>& splits = forest.getSplits();
+  const std::vector<int>& roots = forest.getRoots();
+  cv::Mat votes;
+  forest.getVotes(cv::Mat::zeros(1, feature_count, CV_32F), votes, 0);
+  if (votes.rows != 2 || votes.type() != CV_32S) throw std::invalid_argument("ForestVotes: getVotes gave no label row");
+  labels_.assign(votes.ptr<int>(0), votes.ptr<int>(0) + votes.cols);
+  const int n = static_cast<int>(nodes.size());
+  nodes_.resize(nodes.size());
+  std::vector<std::vector<float>> thresholds(feature_count);
+  for (int i = 0; i < n; ++i) {
+    const cv::ml::DTrees::Node& in = nodes[i];
+    Node& out = nodes_[i];
+    if (in.split < 0) {
+      if (in.classIdx < 0 || in.classIdx >= static_cast<int>(labels_.size())) {
+        throw std::invalid_argument("ForestVotes: a leaf votes for class index " + std::to_string(in.classIdx));
+      }
+      out.label_index = in.classIdx;
+      continue;
+    }
+    if (in.split >= static_cast<int>(splits.size()) || in.left < 0 || in.left >= n || in.right < 0 || in.right >= n) {
+      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " links outside the forest");
+    }
+    const cv::ml::DTrees::Split& s = splits[in.split];
+    if (s.varIdx < 0 || s.varIdx >= feature_count) {
+      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " splits on feature " + std::to_string(s.varIdx));
+    }
+    out.feature = s.varIdx;
+    out.threshold = s.c;
+    out.left = in.left;
+    out.right = in.right;
+    thresholds[s.varIdx].push_back(s.c);
+  }
+  for (int r : roots) {
+    if (r < 0 || r >= n) throw std::invalid_argument("ForestVotes: a tree's root lies outside the forest");
+  }
+  roots_ = roots;
+  // Every walk must end: children come after their parent in OpenCV's node order.
+  for (int i = 0; i < n; ++i) {
+    if (nodes_[i].feature >= 0 && (nodes_[i].left <= i || nodes_[i].right <= i)) {
+      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " links back");
+    }
+  }
+  const cv::Mat probe = probes(thresholds, 64);
+  forest.getVotes(probe, votes, 0);
+  std::vector<int> counts(labels_.size());
+  for (int r = 0; r < probe.rows; ++r) {
+    vote(probe.ptr<float>(r), counts.data());
+    for (std::size_t k = 0; k < counts.size(); ++k) {
+      if (counts[k] != votes.at<int>(1 + r, static_cast<int>(k))) {
+        throw std::invalid_argument("ForestVotes: the copied forest votes otherwise than OpenCV's");
+      }
+    }
+  }
+}
+
+void ForestVotes::vote(const float* sample, int* counts) const {
+  std::fill(counts, counts + labels_.size(), 0);
+  for (int root : roots_) {
+    const Node* node = &nodes_[root];
+    while (node->feature >= 0) {
+      node = &nodes_[sample[node->feature] <= node->threshold ? node->left : node->right];
+    }
+    ++counts[node->label_index];
+  }
+}
+
+}  // namespace underwater_stereo
