@@ -20,6 +20,23 @@ TEST(ImageQuality, MeanBrightnessIsBt601Luma) {
   EXPECT_FALSE(r.enhanced);
 }
 
+TEST(ImageQuality, OnePassGivesOpenCVsLumaMeanAndValueCounts) {
+  cv::RNG rng(3);
+  for (const cv::Size size : {cv::Size(960, 600), cv::Size(7, 3), cv::Size(1, 1)}) {
+    cv::Mat bgr(size, CV_8UC3);
+    rng.fill(bgr, cv::RNG::UNIFORM, 0, 256);
+    QualityConfig config;
+    const QualityReport r = assessQuality(bgr, config);
+    cv::Mat luma, channels[3], value;
+    cv::cvtColor(bgr, luma, cv::COLOR_BGR2GRAY);
+    cv::split(bgr, channels);
+    cv::max(cv::max(channels[0], channels[1]), channels[2], value);
+    EXPECT_DOUBLE_EQ(r.mean_brightness, cv::mean(luma)[0]) << size;
+    EXPECT_DOUBLE_EQ(r.dark_fraction, cv::countNonZero(value < config.dark_pixel_value) / double(bgr.total()));
+    EXPECT_DOUBLE_EQ(r.bright_fraction, cv::countNonZero(value > config.bright_pixel_value) / double(bgr.total()));
+  }
+}
+
 TEST(ImageQuality, ThresholdsFollowThePaper) {
   const QualityConfig config;
   EXPECT_EQ(assessQuality(uniform(15, 15, 15), config).status, QualityStatus::kTooDark);
