@@ -33,10 +33,6 @@ ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) : feat
   const std::vector<cv::ml::DTrees::Node>& nodes = forest.getNodes();
   const std::vector<cv::ml::DTrees::Split>& splits = forest.getSplits();
   const std::vector<int>& roots = forest.getRoots();
-  cv::Mat votes;
-  forest.getVotes(cv::Mat::zeros(1, feature_count, CV_32F), votes, 0);
-  if (votes.rows != 2 || votes.type() != CV_32S) throw std::invalid_argument("ForestVotes: getVotes gave no label row");
-  labels_.assign(votes.ptr<int>(0), votes.ptr<int>(0) + votes.cols);
   const int n = static_cast<int>(nodes.size());
   nodes_.resize(nodes.size());
   std::vector<std::vector<float>> thresholds(feature_count);
@@ -44,9 +40,6 @@ ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) : feat
     const cv::ml::DTrees::Node& in = nodes[i];
     Node& out = nodes_[i];
     if (in.split < 0) {
-      if (in.classIdx < 0 || in.classIdx >= static_cast<int>(labels_.size())) {
-        throw std::invalid_argument("ForestVotes: a leaf votes for class index " + std::to_string(in.classIdx));
-      }
       out.label_index = in.classIdx;
       continue;
     }
@@ -71,6 +64,16 @@ ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) : feat
   for (int i = 0; i < n; ++i) {
     if (nodes_[i].feature >= 0 && (nodes_[i].left <= i || nodes_[i].right <= i)) {
       throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " links back");
+    }
+  }
+  // The links are sound: OpenCV's own walk is safe now, and gives the labels.
+  cv::Mat votes;
+  forest.getVotes(cv::Mat::zeros(1, feature_count, CV_32F), votes, 0);
+  if (votes.rows != 2 || votes.type() != CV_32S) throw std::invalid_argument("ForestVotes: getVotes gave no label row");
+  labels_.assign(votes.ptr<int>(0), votes.ptr<int>(0) + votes.cols);
+  for (const Node& node : nodes_) {
+    if (node.feature < 0 && (node.label_index < 0 || node.label_index >= static_cast<int>(labels_.size()))) {
+      throw std::invalid_argument("ForestVotes: a leaf votes for class index " + std::to_string(node.label_index));
     }
   }
   const cv::Mat probe = probes(thresholds, 64);
