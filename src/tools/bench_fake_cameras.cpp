@@ -170,10 +170,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     pattern[s].camera = arv_gv_fake_camera_get_fake_camera(fake[s]);
-    arv_fake_camera_set_fill_pattern(pattern[s].camera, fillWithImage, &pattern[s]);
     // The fake truncates 1e6 / frequency to whole microseconds: aim half a microsecond above the period wanted.
     pattern[s].period_us = std::llround(1e6 / trigger_hz);
     arv_fake_camera_set_trigger_frequency(pattern[s].camera, 1e6 / (pattern[s].period_us + 0.5));
+    arv_fake_camera_set_fill_pattern(pattern[s].camera, fillWithImage, &pattern[s]);
   }
   std::signal(SIGINT, [](int) { stop = true; });
   std::signal(SIGTERM, [](int) { stop = true; });
