@@ -21,6 +21,7 @@
 #include "underwater_stereo/detection/colour_learning.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/miss_causes.h"
 
 using namespace underwater_stereo;
 
@@ -41,6 +42,9 @@ const char* kUsage =
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
     "  --zoom N            and from N copies seen nearer (1.3-2x, around a labelled object; default 0)\n"
+    "  --unlabelled-votes X   leave out of the background the regions that a model learnt from the other\n"
+    "                      half of the frames names a colour with at least X of the votes (unlabelled\n"
+    "                      buoys; default 0: none left out)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
     "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
     "                      (one table; from the same folds, to choose min_confidence)\n"
@@ -110,6 +114,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
     else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
     else if (arg == "--zoom") o.learning.zoom = static_cast<int>(number(0, 20));
+    else if (arg == "--unlabelled-votes") o.learning.unlabelled_votes = number(0, 1);
     else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
     else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
@@ -190,17 +195,6 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   return frames;
 }
 
-ColourModel trainOn(const std::vector<const FrameSamples*>& parts, const LearningOptions& options) {
-  cv::Mat features;
-  std::vector<int> labels;
-  for (const FrameSamples* p : parts) {
-    if (p->features.empty()) continue;
-    features.push_back(p->features);
-    labels.insert(labels.end(), p->labels.begin(), p->labels.end());
-  }
-  return ColourModel::train(features, labels, options.colours, options.training);
-}
-
 void printScore(const LearningScore& s, const LearningOptions& options, const std::string& heading) {
   std::printf("\n%s\n\n| colour | labelled | found | recall %% |\n|---|---|---|---|\n", heading.c_str());
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
@@ -225,6 +219,35 @@ void printScore(const LearningScore& s, const LearningOptions& options, const st
     std::printf("| %s |", options.colours[k].c_str());
     for (int v : s.confusion[k]) std::printf(" %d |", v);
     std::printf("\n");
+  }
+}
+
+/// Where each held-out miss was lost: a table of causes by fold and colour, then every miss.
+void printMisses(const std::vector<std::pair<int, Miss>>& misses, int folds, const LearningOptions& options) {
+  const std::size_t n = options.colours.size();
+  std::printf("\nwhere the held-out labels were lost (at the chosen thresholds), by fold and by colour\n\n| cause |");
+  for (int k = 0; k < folds; ++k) std::printf(" fold %d |", k + 1);
+  for (const auto& c : options.colours) std::printf(" %s |", c.c_str());
+  std::printf(" all |\n|---|");
+  for (std::size_t k = 0; k < static_cast<std::size_t>(folds) + n + 1; ++k) std::printf("---|");
+  std::printf("\n");
+  for (int cause = 0; cause < kMissCauseCount; ++cause) {
+    std::vector<int> by_fold(static_cast<std::size_t>(folds), 0), by_colour(n, 0);
+    for (const auto& [fold, m] : misses) {
+      if (static_cast<int>(m.why.cause) != cause) continue;
+      ++by_fold[static_cast<std::size_t>(fold)];
+      ++by_colour[static_cast<std::size_t>(m.colour)];
+    }
+    std::printf("| %s |", missCauseName(static_cast<MissCause>(cause)).c_str());
+    for (int v : by_fold) std::printf(" %d |", v);
+    for (int v : by_colour) std::printf(" %d |", v);
+    std::printf(" %d |\n", std::accumulate(by_colour.begin(), by_colour.end(), 0));
+  }
+  std::printf("\n");
+  for (const auto& [fold, m] : misses) {
+    std::printf("fold %d: %s %s [%d, %d, %dx%d]: %s (its colour's best votes %.2f)\n", fold + 1, m.frame.c_str(),
+                options.colours[m.colour].c_str(), m.label.box.x, m.label.box.y, m.label.box.width, m.label.box.height,
+                missCauseName(m.why.cause).c_str(), m.why.best_confidence);
   }
 }
 
@@ -392,7 +415,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const Detector d(configWith(trainOn(samplesOfFrames(train), o.learning), o.choose.front(), {}));
+        const Detector d(configWith(learnColourModel(samplesOfFrames(train), o.learning), o.choose.front(), {}));
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         const auto found = detectionsOf(d, held_out);
         ordered.insert(ordered.end(), held_out.begin(), held_out.end());
@@ -412,6 +435,7 @@ int main(int argc, char** argv) {
       const std::vector<std::vector<std::size_t>> parts = foldsOf(everything, o.folds, seed);
       std::vector<LearningScore> totals(thresholds.size());
       LearningScore chosen_total;
+      std::vector<std::pair<int, Miss>> misses;  // the held-out misses at the chosen thresholds, with their fold
       std::ofstream held_out_detections;
       if (!o.detections_out.empty()) {
         held_out_detections.open(o.detections_out);
@@ -422,7 +446,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const ColourModel model = trainOn(samplesOfFrames(train), o.learning);
+        const ColourModel model = learnColourModel(samplesOfFrames(train), o.learning);
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         if (!o.choose.empty()) {
           // Thresholds from the training folds only (inner cross-validation), judged on the held-out fold.
@@ -432,6 +456,9 @@ int main(int argc, char** argv) {
           const Detector chosen(configWith(model, o.choose.front(), choice.min_confidence));
           const auto found = detectionsOf(chosen, held_out);
           chosen_total.add(scoreDetections(held_out, found, o.learning, choice.min_confidence));
+          for (Miss& m : explainMisses(chosen, held_out, found, o.learning, choice.min_confidence)) {
+            misses.push_back({static_cast<int>(k), std::move(m)});
+          }
           writeDetections(held_out, found, choice.min_confidence, o.learning, held_out_detections);
         }
         if (!o.choose.empty() && o.sweep.empty()) continue;  // no single threshold to score
@@ -455,6 +482,7 @@ int main(int argc, char** argv) {
       if (!o.choose.empty()) {
         printScore(chosen_total, o.learning,
                    heading + "per-colour min_confidence chosen in each fold by cross-validation on its training frames)");
+        printMisses(misses, o.folds, o.learning);
       }
     }
     std::vector<double> per_colour;
@@ -464,7 +492,7 @@ int main(int argc, char** argv) {
       std::printf("\nmin_confidence per colour chosen by %d-fold cross-validation on all frames: %s\n", o.folds,
                   thresholdsText(per_colour, o.learning).c_str());
     }
-    const ColourModel model = trainOn(samplesOfFrames(everything), o.learning);
+    const ColourModel model = learnColourModel(samplesOfFrames(everything), o.learning);
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
     const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)
