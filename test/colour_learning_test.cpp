@@ -6,7 +6,6 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -302,40 +301,4 @@ TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {
       }
     }
   }
-}
-
-TEST(ColourLearning, UnlabelledBuoysAreLeftOutOfTheBackground) {
-  // The same samples twice: every buoy labelled, and with the red rows of every fourth frame taught as
-  // background (its red buoys left unlabelled).
-  LearningOptions o = options();
-  o.unlabelled_votes = 0.5;
-  DetectorConfig proposer_config = baseConfig();
-  proposer_config.candidates.source = ContourSource::kColourMask;
-  const Detector proposer(proposer_config);
-  std::vector<FrameSamples> full, partial;
-  for (unsigned s = 0; s < 40; ++s) {
-    full.push_back(samplesOf(syntheticFrame(s), proposer, o, s + 1));
-    partial.push_back(full.back());
-    if (s % 4 == 1) std::replace(partial.back().labels.begin(), partial.back().labels.end(), 0, -1);
-  }
-  std::vector<const FrameSamples*> parts;
-  for (const FrameSamples& p : partial) parts.push_back(&p);
-  const std::vector<std::vector<bool>> left_out = likelyUnlabelled(parts, o);
-  int unlabelled = 0, unlabelled_out = 0, water = 0, water_out = 0;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    ASSERT_EQ(full[i].labels.size(), partial[i].labels.size());
-    ASSERT_EQ(left_out[i].size(), partial[i].labels.size());
-    for (std::size_t r = 0; r < partial[i].labels.size(); ++r) {
-      EXPECT_FALSE(left_out[i][r] && partial[i].labels[r] >= 0) << "a labelled row is never left out";
-      if (partial[i].labels[r] >= 0) continue;
-      const bool buoy = full[i].labels[r] == 0;
-      (buoy ? unlabelled : water) += 1;
-      (buoy ? unlabelled_out : water_out) += left_out[i][r];
-    }
-  }
-  ASSERT_GT(unlabelled, 5);
-  EXPECT_GE(unlabelled_out, 0.8 * unlabelled) << "unlabelled red buoys left out of the background";
-  EXPECT_LE(water_out, 0.02 * water) << "of " << water << " background rows";
-  o.unlabelled_votes = 0;
-  for (const auto& part : likelyUnlabelled(parts, o)) EXPECT_EQ(std::count(part.begin(), part.end(), true), 0);
 }

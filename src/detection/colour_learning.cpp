@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -117,7 +116,6 @@ std::vector<std::string> LearningOptions::validate() const {
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
   if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
-  if (!(unlabelled_votes >= 0 && unlabelled_votes <= 1)) p.push_back("unlabelled_votes must be in [0, 1]");
   return p;
 }
 
@@ -264,62 +262,6 @@ FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, con
     addSamples(nearer.image, nearer, proposer, options, false, out);
   }
   return out;
-}
-
-namespace {
-
-/// The rows of the parts `use` accepts, but those `skip` marks.
-void gather(const std::vector<const FrameSamples*>& parts, const std::function<bool(std::size_t)>& use,
-            const std::vector<std::vector<bool>>& skip, cv::Mat& features, std::vector<int>& labels) {
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    if (!use(i)) continue;
-    for (int r = 0; r < parts[i]->features.rows; ++r) {
-      if (skip[i][static_cast<std::size_t>(r)]) continue;
-      features.push_back(parts[i]->features.row(r));
-      labels.push_back(parts[i]->labels[static_cast<std::size_t>(r)]);
-    }
-  }
-}
-
-std::vector<std::vector<bool>> noneOf(const std::vector<const FrameSamples*>& parts) {
-  std::vector<std::vector<bool>> out;
-  for (const FrameSamples* p : parts) out.emplace_back(p->labels.size(), false);
-  return out;
-}
-
-}  // namespace
-
-std::vector<std::vector<bool>> likelyUnlabelled(const std::vector<const FrameSamples*>& parts,
-                                                const LearningOptions& options) {
-  std::vector<std::vector<bool>> out = noneOf(parts);
-  if (!(options.unlabelled_votes > 0)) return out;
-  ColourModelTraining judge_training = options.training;
-  judge_training.trees = std::min(judge_training.trees, 50);
-  const std::vector<std::vector<bool>> none = noneOf(parts);
-  for (std::size_t half = 0; half < 2; ++half) {
-    cv::Mat features;
-    std::vector<int> labels;
-    gather(parts, [&](std::size_t i) { return i % 2 != half; }, none, features, labels);
-    std::vector<int> counts(options.colours.size() + 1, 0);
-    for (int l : labels) ++counts[static_cast<std::size_t>(l + 1)];
-    if (std::count(counts.begin(), counts.end(), 0) > 0) return none;  // a half without a colour
-    const ColourModel judge = ColourModel::train(features, labels, options.colours, judge_training);
-    for (std::size_t i = half; i < parts.size(); i += 2) {
-      if (parts[i]->features.empty()) continue;
-      const std::vector<ColourVerdict> verdicts = judge.classify(parts[i]->features);
-      for (std::size_t r = 0; r < verdicts.size(); ++r) {
-        out[i][r] = parts[i]->labels[r] < 0 && verdicts[r].colour >= 0 && verdicts[r].confidence >= options.unlabelled_votes;
-      }
-    }
-  }
-  return out;
-}
-
-ColourModel learnColourModel(const std::vector<const FrameSamples*>& parts, const LearningOptions& options) {
-  cv::Mat features;
-  std::vector<int> labels;
-  gather(parts, [](std::size_t) { return true; }, likelyUnlabelled(parts, options), features, labels);
-  return ColourModel::train(features, labels, options.colours, options.training);
 }
 
 void LearningScore::add(const LearningScore& o) {

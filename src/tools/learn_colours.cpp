@@ -42,9 +42,6 @@ const char* kUsage =
     "  --min-label-px N    labels shorter than this are beyond the working range: neither (default 15)\n"
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
     "  --zoom N            and from N copies seen nearer (1.3-2x, around a labelled object; default 0)\n"
-    "  --unlabelled-votes X   leave out of the background the regions that a model learnt from the other\n"
-    "                      half of the frames names a colour with at least X of the votes (unlabelled\n"
-    "                      buoys; default 0: none left out)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
     "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
     "                      (one table; from the same folds, to choose min_confidence)\n"
@@ -114,7 +111,6 @@ Options parse(int argc, char** argv) {
     else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
     else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
     else if (arg == "--zoom") o.learning.zoom = static_cast<int>(number(0, 20));
-    else if (arg == "--unlabelled-votes") o.learning.unlabelled_votes = number(0, 1);
     else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
     else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
     else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
@@ -193,6 +189,17 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   if (frames.empty() && problems.empty()) problems.push_back("no images found in the --images folders");
   if (!problems.empty()) throw std::runtime_error(joinProblems("cannot learn from these frames", problems));
   return frames;
+}
+
+ColourModel trainOn(const std::vector<const FrameSamples*>& parts, const LearningOptions& options) {
+  cv::Mat features;
+  std::vector<int> labels;
+  for (const FrameSamples* p : parts) {
+    if (p->features.empty()) continue;
+    features.push_back(p->features);
+    labels.insert(labels.end(), p->labels.begin(), p->labels.end());
+  }
+  return ColourModel::train(features, labels, options.colours, options.training);
 }
 
 void printScore(const LearningScore& s, const LearningOptions& options, const std::string& heading) {
@@ -415,7 +422,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const Detector d(configWith(learnColourModel(samplesOfFrames(train), o.learning), o.choose.front(), {}));
+        const Detector d(configWith(trainOn(samplesOfFrames(train), o.learning), o.choose.front(), {}));
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         const auto found = detectionsOf(d, held_out);
         ordered.insert(ordered.end(), held_out.begin(), held_out.end());
@@ -446,7 +453,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const ColourModel model = learnColourModel(samplesOfFrames(train), o.learning);
+        const ColourModel model = trainOn(samplesOfFrames(train), o.learning);
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         if (!o.choose.empty()) {
           // Thresholds from the training folds only (inner cross-validation), judged on the held-out fold.
@@ -492,7 +499,7 @@ int main(int argc, char** argv) {
       std::printf("\nmin_confidence per colour chosen by %d-fold cross-validation on all frames: %s\n", o.folds,
                   thresholdsText(per_colour, o.learning).c_str());
     }
-    const ColourModel model = learnColourModel(samplesOfFrames(everything), o.learning);
+    const ColourModel model = trainOn(samplesOfFrames(everything), o.learning);
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
     const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)

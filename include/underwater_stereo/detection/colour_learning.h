@@ -41,10 +41,6 @@ struct LearningOptions {
   int augment = 2;
   /// And from this many copies seen nearer (zoomedIn()): near objects are few in most labelled sets.
   int zoom = 0;
-  /// When > 0, background rows that a model learnt from the other half of the frames names a colour with at
-  /// least this share of the votes are left out of training (likelyUnlabelled()): the data labels not every
-  /// buoy, and an unlabelled buoy taught as water teaches the forest to doubt the labelled ones.
-  double unlabelled_votes = 0;
   ColourModelTraining training;
 
   std::vector<std::string> validate() const;
@@ -79,16 +75,6 @@ struct FrameSamples {
 /// With options.augment > 0, the rows of the frame's augmented copies (seeds from `seed`) are added.
 FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options,
                        unsigned seed = 1);
-
-/// Per part and row: the background rows of `parts` (one per frame, its augmented copies included) that a
-/// forest learnt from the other half of the parts (alternate parts; at most 50 trees) names a colour with at
-/// least options.unlabelled_votes of the votes. All false when that is 0, or when a half lacks a colour.
-std::vector<std::vector<bool>> likelyUnlabelled(const std::vector<const FrameSamples*>& parts,
-                                                const LearningOptions& options);
-
-/// The colour model learnt from every row of `parts`, but those likelyUnlabelled().
-/// @throw std::invalid_argument as ColourModel::train (no background, a colour without samples).
-ColourModel learnColourModel(const std::vector<const FrameSamples*>& parts, const LearningOptions& options);
 
 /// Recall, false detections and confusions of a config on held-out frames.
 struct LearningScore {
