@@ -48,6 +48,8 @@ const char* kUsage =
     "  --choose-thresholds a,b,...   a min_confidence per colour from these values, chosen by cross-validation\n"
     "                      (the best mean recall per colour with at most --max-false per frame): inside each\n"
     "                      fold's training frames for its figures, on all frames for the written config\n"
+    "                      (and lists where each held-out miss was lost: no proposal, too few votes, another\n"
+    "                      colour, an overlapping region)\n"
     "  --max-false X       false detections per frame allowed when choosing thresholds (default 0.3)\n"
     "  --detections-out F  the cross-validated (held-out) detections as JSON lines like detect_files' (to score\n"
     "                      or draw them: scripts/evaluate_transdec --detections F)\n"
