@@ -21,7 +21,7 @@ MissCause causeOf(const std::vector<cv::Rect>& proposals, const std::vector<Colo
 }  // namespace
 
 TEST(MissCauses, NoCoveringProposal) {
-  // Far away, or a sliver of the label (IoU under kCoverIou): not a view of it.
+  // Far away, or a sliver of the label (IoU under kMatchIou): not a view of it.
   EXPECT_EQ(causeOf({}, {}), MissCause::kNoProposal);
   EXPECT_EQ(causeOf({cv::Rect(300, 300, 40, 40), cv::Rect(100, 100, 10, 10)}, {{kGreen, 0.9}, {kGreen, 0.9}}),
             MissCause::kNoProposal);

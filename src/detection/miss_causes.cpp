@@ -4,27 +4,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "underwater_stereo/detection/learned_candidates.h"
+
 namespace underwater_stereo {
-namespace {
-
-double iou(const cv::Rect& a, const cv::Rect& b) {
-  const double inter = (a & b).area();
-  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
-}
-
-/// Intersection over the smaller box: the learned search's test of two regions being one object.
-double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
-  const double inter = (a & b).area();
-  return inter / std::max(1, std::min(a.area(), b.area()));
-}
-
-bool centreIn(const cv::Rect& roi, const cv::Rect& box) {
-  const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
-  return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
-}
-
-}  // namespace
-
 std::string missCauseName(MissCause cause) {
   switch (cause) {
     case MissCause::kNoProposal: return "no proposal covers it";
@@ -46,9 +28,9 @@ MissExplanation explainMiss(const cv::Rect& label, int colour, const std::vector
   MissExplanation out;
   bool covered = false, passed = false, other = false, overlapped = false;
   // A detection of another colour centred on the label: the object was reported, as that colour.
-  for (const KeptRegion& d : detections) other |= d.colour != colour && centreIn(d.roi, label);
+  for (const KeptRegion& d : detections) other |= d.colour != colour && centreInside(d.roi, label);
   for (std::size_t i = 0; i < proposals.size(); ++i) {
-    if (iou(proposals[i], label) < kCoverIou) continue;
+    if (boxIou(proposals[i], label) < kMatchIou) continue;
     covered = true;
     const ColourVerdict& v = verdicts[i];
     if (v.colour < 0 || v.colour >= static_cast<int>(min_confidence.size())) continue;
@@ -61,7 +43,7 @@ MissExplanation explainMiss(const cv::Rect& label, int colour, const std::vector
     if (!enough) continue;
     passed = true;
     overlapped |= std::any_of(detections.begin(), detections.end(), [&](const KeptRegion& d) {
-      return d.colour == colour && overlapOfSmaller(d.roi, proposals[i]) > max_overlap && !centreIn(d.roi, label);
+      return d.colour == colour && overlapOfSmaller(d.roi, proposals[i]) > max_overlap && !centreInside(d.roi, label);
     });
   }
   out.cause = !covered ? MissCause::kNoProposal
@@ -103,7 +85,7 @@ std::vector<Miss> explainMisses(const Detector& detector, const std::vector<Labe
       const int colour = colourOfLabel(l.name, options);
       if (colour < 0 || l.box.height < options.min_label_px) continue;
       const bool found = std::any_of(detections[f].begin(), detections[f].end(), [&](const Detection& d) {
-        return d.colour == options.colours[colour] && d.confidence >= min_confidence[colour] && centreIn(d.roi, l.box);
+        return d.colour == options.colours[colour] && d.confidence >= min_confidence[colour] && centreInside(d.roi, l.box);
       });
       if (found) continue;
       if (!looked) {

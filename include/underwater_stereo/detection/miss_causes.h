@@ -16,7 +16,7 @@ namespace underwater_stereo {
 
 /// The stage that lost a labelled object, in the order of the search.
 enum class MissCause {
-  kNoProposal,      ///< no proposal covers it (intersection over union under kCoverIou)
+  kNoProposal,      ///< no proposal covers it (intersection over union under kMatchIou)
   kUnderThreshold,  ///< covered, but no covering region got its colour's min_confidence (nor another colour's)
   kWrongColour,     ///< a covering region was reported as another colour (and none as its own)
   kOverlapped,      ///< a covering region passed as its colour, then lost to a more confident overlapping one of
@@ -24,10 +24,6 @@ enum class MissCause {
   kOffLabel,        ///< passed as its colour and not overlapped, but its detection's centre left the label
 };
 constexpr int kMissCauseCount = 5;
-
-/// A proposal covers a label when their boxes overlap by this much (intersection over union): learn_colours'
-/// match of an example to its label.
-constexpr double kCoverIou = 0.3;
 
 /// Short name of a cause (table rows).
 std::string missCauseName(MissCause cause);
