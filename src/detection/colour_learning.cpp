@@ -16,9 +16,8 @@
 namespace underwater_stereo {
 namespace {
 
-/// A proposal is an example of a labelled object when their boxes overlap by this much (intersection over
-/// union); between kIgnoreIou and this it is part of an object or the object with its surroundings: neither.
-constexpr double kMatchIou = 0.3;
+/// Between this overlap with a labelled object (intersection over union) and kMatchIou a proposal is part of
+/// an object or the object with its surroundings: neither example nor background.
 constexpr double kIgnoreIou = 0.05;
 
 /// The text between `<tag>` and `</tag>` in xml[from, to), and where the closing tag ends; false if absent.
@@ -39,17 +38,22 @@ std::string trimmed(const std::string& s) {
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
-double iou(const cv::Rect& a, const cv::Rect& b) {
-  const double inter = (a & b).area();
-  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
-}
-
 std::string boxText(const cv::Rect& r) {
   return "[" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.br().x) + ", " +
          std::to_string(r.br().y) + "]";
 }
 
 }  // namespace
+
+double boxIou(const cv::Rect& a, const cv::Rect& b) {
+  const double inter = (a & b).area();
+  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
+}
+
+bool centreInside(const cv::Rect& roi, const cv::Rect& box) {
+  const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
+  return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
+}
 
 std::vector<LabelBox> readVocLabels(const std::string& path) {
   std::ifstream in(path);
@@ -227,14 +231,14 @@ void addSamples(const cv::Mat& image, const LabelledFrame& frame, const Detector
     if (!count || colourOfLabel(l.name, options) < 0 || l.box.height < options.min_label_px) continue;
     ++out.objects;
     out.proposed += std::any_of(proposals.begin(), proposals.end(),
-                                [&](const BlobProposal& b) { return iou(b.roi, l.box) >= kMatchIou; });
+                                [&](const BlobProposal& b) { return boxIou(b.roi, l.box) >= kMatchIou; });
   }
   for (const BlobProposal& b : proposals) {
     int label = -1;
     bool ignore = false;
     for (const LabelBox& l : frame.labels) {
       const int colour = colourOfLabel(l.name, options);
-      const double overlap = iou(b.roi, l.box);
+      const double overlap = boxIou(b.roi, l.box);
       if (colour < 0 || overlap <= kIgnoreIou) continue;
       if (l.box.height < options.min_label_px || overlap < kMatchIou) {
         ignore = true;
@@ -301,16 +305,12 @@ void scoreFrame(const LabelledFrame& f, const std::vector<Detection>& objects, c
     const double needed = it == options.colours.end() ? 0.0 : min_confidence[it - options.colours.begin()];
     counted_object[i] = objects[i].confidence >= needed;
   }
-  auto centreIn = [](const cv::Rect& roi, const cv::Rect& box) {
-    const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
-    return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
-  };
   for (const LabelBox& l : f.labels) {
     const int colour = colourOfLabel(l.name, options);
     if (colour < 0) continue;
     int hit = -1, other = -1;
     for (std::size_t i = 0; i < objects.size(); ++i) {
-      if (!counted_object[i] || used[i] || !centreIn(objects[i].roi, l.box)) continue;
+      if (!counted_object[i] || used[i] || !centreInside(objects[i].roi, l.box)) continue;
       if (objects[i].colour == options.colours[colour]) {
         hit = static_cast<int>(i);
         break;

@@ -15,11 +15,6 @@ namespace {
 /// Rejections are reported for proposals whose best colour got at least this share of the needed votes.
 constexpr double kExplainShare = 0.5;
 
-double overlap(const cv::Rect& a, const cv::Rect& b) {
-  const double inter = (a & b).area();
-  return inter / std::max(1, std::min(a.area(), b.area()));
-}
-
 /// Median of `values` (CV_32F) under `mask`.
 double medianUnder(const cv::Mat& values, const cv::Mat& mask) {
   std::vector<float> v;
@@ -78,6 +73,11 @@ std::string formatted(const char* format, double a, double b) {
 }
 
 }  // namespace
+
+double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
+  const double inter = (a & b).area();
+  return inter / std::max(1, std::min(a.area(), b.area()));
+}
 
 std::vector<std::string> LearnedColourConfig::validate() const {
   std::vector<std::string> p;
@@ -143,7 +143,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                    [](const Named& a, const Named& b) { return a.verdict.confidence > b.verdict.confidence; });
   for (Named& n : named) {
     const bool same_object = std::any_of(out.candidates.begin(), out.candidates.end(), [&](const Candidate& kept) {
-      return overlap(kept.roi, n.proposal.roi) > config.max_overlap;
+      return overlapOfSmaller(kept.roi, n.proposal.roi) > config.max_overlap;
     });
     if (same_object) continue;  // a weaker view of an object already taken: not a rejection
     if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {

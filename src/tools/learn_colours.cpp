@@ -21,6 +21,7 @@
 #include "underwater_stereo/detection/colour_learning.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/miss_causes.h"
 
 using namespace underwater_stereo;
 
@@ -47,6 +48,8 @@ const char* kUsage =
     "  --choose-thresholds a,b,...   a min_confidence per colour from these values, chosen by cross-validation\n"
     "                      (the best mean recall per colour with at most --max-false per frame): inside each\n"
     "                      fold's training frames for its figures, on all frames for the written config\n"
+    "                      (and lists where each held-out miss was lost: no proposal, too few votes, another\n"
+    "                      colour, an overlapping region)\n"
     "  --max-false X       false detections per frame allowed when choosing thresholds (default 0.3)\n"
     "  --detections-out F  the cross-validated (held-out) detections as JSON lines like detect_files' (to score\n"
     "                      or draw them: scripts/evaluate_transdec --detections F)\n"
@@ -225,6 +228,35 @@ void printScore(const LearningScore& s, const LearningOptions& options, const st
     std::printf("| %s |", options.colours[k].c_str());
     for (int v : s.confusion[k]) std::printf(" %d |", v);
     std::printf("\n");
+  }
+}
+
+/// Where each held-out miss was lost: a table of causes by fold and colour, then every miss.
+void printMisses(const std::vector<std::pair<int, Miss>>& misses, int folds, const LearningOptions& options) {
+  const std::size_t n = options.colours.size();
+  std::printf("\nwhere the held-out labels were lost (at the chosen thresholds), by fold and by colour\n\n| cause |");
+  for (int k = 0; k < folds; ++k) std::printf(" fold %d |", k + 1);
+  for (const auto& c : options.colours) std::printf(" %s |", c.c_str());
+  std::printf(" all |\n|---|");
+  for (std::size_t k = 0; k < static_cast<std::size_t>(folds) + n + 1; ++k) std::printf("---|");
+  std::printf("\n");
+  for (int cause = 0; cause < kMissCauseCount; ++cause) {
+    std::vector<int> by_fold(static_cast<std::size_t>(folds), 0), by_colour(n, 0);
+    for (const auto& [fold, m] : misses) {
+      if (static_cast<int>(m.why.cause) != cause) continue;
+      ++by_fold[static_cast<std::size_t>(fold)];
+      ++by_colour[static_cast<std::size_t>(m.colour)];
+    }
+    std::printf("| %s |", missCauseName(static_cast<MissCause>(cause)).c_str());
+    for (int v : by_fold) std::printf(" %d |", v);
+    for (int v : by_colour) std::printf(" %d |", v);
+    std::printf(" %d |\n", std::accumulate(by_colour.begin(), by_colour.end(), 0));
+  }
+  std::printf("\n");
+  for (const auto& [fold, m] : misses) {
+    std::printf("fold %d: %s %s [%d, %d, %dx%d]: %s (its colour's best votes %.2f)\n", fold + 1, m.frame.c_str(),
+                options.colours[m.colour].c_str(), m.label.box.x, m.label.box.y, m.label.box.width, m.label.box.height,
+                missCauseName(m.why.cause).c_str(), m.why.best_confidence);
   }
 }
 
@@ -412,6 +444,7 @@ int main(int argc, char** argv) {
       const std::vector<std::vector<std::size_t>> parts = foldsOf(everything, o.folds, seed);
       std::vector<LearningScore> totals(thresholds.size());
       LearningScore chosen_total;
+      std::vector<std::pair<int, Miss>> misses;  // the held-out misses at the chosen thresholds, with their fold
       std::ofstream held_out_detections;
       if (!o.detections_out.empty()) {
         held_out_detections.open(o.detections_out);
@@ -432,6 +465,9 @@ int main(int argc, char** argv) {
           const Detector chosen(configWith(model, o.choose.front(), choice.min_confidence));
           const auto found = detectionsOf(chosen, held_out);
           chosen_total.add(scoreDetections(held_out, found, o.learning, choice.min_confidence));
+          for (Miss& m : explainMisses(chosen, held_out, found, o.learning, choice.min_confidence)) {
+            misses.push_back({static_cast<int>(k), std::move(m)});
+          }
           writeDetections(held_out, found, choice.min_confidence, o.learning, held_out_detections);
         }
         if (!o.choose.empty() && o.sweep.empty()) continue;  // no single threshold to score
@@ -455,6 +491,7 @@ int main(int argc, char** argv) {
       if (!o.choose.empty()) {
         printScore(chosen_total, o.learning,
                    heading + "per-colour min_confidence chosen in each fold by cross-validation on its training frames)");
+        printMisses(misses, o.folds, o.learning);
       }
     }
     std::vector<double> per_colour;

@@ -21,6 +21,15 @@ struct LabelBox {
   cv::Rect box;      ///< image pixels
 };
 
+/// A proposal is an example of a labelled object (and covers it) when their boxes overlap by this much.
+constexpr double kMatchIou = 0.3;
+
+/// Intersection over union of two boxes.
+double boxIou(const cv::Rect& a, const cv::Rect& b);
+
+/// Whether the centre of `roi` lies in `box` (edges included): how a detection finds a label.
+bool centreInside(const cv::Rect& roi, const cv::Rect& box);
+
 /// The `<object>`s of a Pascal VOC annotation file. @throw std::invalid_argument naming the file (and the
 /// object's number and name) when it cannot be read, is not VOC XML, or a box is empty or not a number.
 std::vector<LabelBox> readVocLabels(const std::string& path);

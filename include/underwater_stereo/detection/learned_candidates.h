@@ -30,6 +30,9 @@ struct LearnedColourConfig {
   std::vector<std::string> validate() const;
 };
 
+/// Intersection over the smaller box's area: above colour_model.max_overlap two regions are one object.
+double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b);
+
 /// A region the detector looked at and did not report, with why (detect_files --explain, diagnostics).
 struct Rejection {
   cv::Rect roi;          ///< raw image pixels
