@@ -109,22 +109,13 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
   }
   // The best colour is reported with its share even when background has more votes: the caller's threshold
   // (colour_model.min_confidence) decides.
-  const std::vector<int>& labels = votes_.labels();
-  std::vector<int> counts(labels.size());
+  std::vector<int> counts(votes_.labels().size());
   std::vector<ColourVerdict> verdicts(features.rows);
   for (int i = 0; i < features.rows; ++i) {
     votes_.vote(features.ptr<float>(i), counts.data());
-    ColourVerdict& v = verdicts[i];
-    int total = 0, best = 0;
-    for (std::size_t j = 0; j < labels.size(); ++j) {
-      total += counts[j];
-      if (labels[j] != kBackground && counts[j] > best) {
-        best = counts[j];
-        v.colour = labels[j] - 1;
-      }
-    }
-    v.confidence = total > 0 ? double(best) / total : 0.0;
-    if (best == 0) v.colour = -1;
+    const auto [label, share] = votes_.best(counts.data(), [](int l) { return l != kBackground; });
+    verdicts[i].colour = label < 0 ? -1 : label - 1;
+    verdicts[i].confidence = share;
   }
   return verdicts;
 }

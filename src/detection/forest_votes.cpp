@@ -26,7 +26,7 @@ cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
 
 }  // namespace
 
-ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) : feature_count_(feature_count) {
+ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) {
   if (!forest.isTrained() || !forest.isClassifier() || forest.getVarCount() != feature_count || feature_count < 1) {
     throw std::invalid_argument("ForestVotes: not a trained classifier over " + std::to_string(feature_count) + " features");
   }

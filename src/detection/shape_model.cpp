@@ -104,19 +104,13 @@ ShapeVerdict ShapeModel::classify(const std::vector<float>& features) const {
     throw std::invalid_argument("ShapeModel::classify: need " + std::to_string(kShapeFeatureCount) + " features, got " +
                                 std::to_string(features.size()));
   }
-  const std::vector<int>& labels = votes_.labels();
-  std::vector<int> counts(labels.size());
+  std::vector<int> counts(votes_.labels().size());
   votes_.vote(features.data(), counts.data());
+  const auto [label, share] =
+      votes_.best(counts.data(), [](int l) { return l >= 0 && l < static_cast<int>(kShapes.size()); });
   ShapeVerdict v;
-  int total = 0, best = 0;
-  for (std::size_t j = 0; j < labels.size(); ++j) {
-    total += counts[j];
-    if (counts[j] > best && labels[j] >= 0 && labels[j] < static_cast<int>(kShapes.size())) {
-      best = counts[j];
-      v.shape = kShapes[labels[j]];
-    }
-  }
-  v.confidence = total > 0 ? double(best) / total : 0.0;
+  if (label >= 0) v.shape = kShapes[label];
+  v.confidence = share;
   return v;
 }
 

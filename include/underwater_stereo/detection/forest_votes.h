@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
 
+#include <utility>
 #include <vector>
 
 namespace underwater_stereo {
@@ -24,13 +25,27 @@ class ForestVotes {
   ForestVotes(const cv::ml::RTrees& forest, int feature_count);
 
   bool empty() const { return roots_.empty(); }
-  int featureCount() const { return feature_count_; }
   int trees() const { return static_cast<int>(roots_.size()); }
   /// The class label of each vote count, in getVotes' order (its row 0).
   const std::vector<int>& labels() const { return labels_; }
-  /// The votes of every tree for `sample` (featureCount() floats), one count per label into `counts`
+  /// The votes of every tree for `sample` (the forest's features), one count per label into `counts`
   /// (labels().size() ints, overwritten).
   void vote(const float* sample, int* counts) const;
+
+  /// Of vote() `counts`, the label with the most votes among those `eligible(label)` accepts (the first on a
+  /// tie), and its share of all the votes; {-1, 0} when none of them got a vote.
+  template <typename Eligible>
+  std::pair<int, double> best(const int* counts, Eligible eligible) const {
+    int total = 0, most = 0, label = -1;
+    for (std::size_t j = 0; j < labels_.size(); ++j) {
+      total += counts[j];
+      if (counts[j] > most && eligible(labels_[j])) {
+        most = counts[j];
+        label = labels_[j];
+      }
+    }
+    return {label, total > 0 ? double(most) / total : 0.0};
+  }
 
  private:
   struct Node {
@@ -42,7 +57,6 @@ class ForestVotes {
   std::vector<Node> nodes_;
   std::vector<int> roots_;
   std::vector<int> labels_;
-  int feature_count_ = 0;
 };
 
 }  // namespace underwater_stereo
