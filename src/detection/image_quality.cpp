@@ -47,11 +47,11 @@ QualityReport assessQuality(const cv::Mat& bgr, const QualityConfig& config) {
     const cv::v_int16 r1_weights =
         cv::v_reinterpret_as_s16(cv::vx_setall_u32((1u << (kShift - 1)) << 16 | static_cast<unsigned>(kR)));
     const cv::v_int16 one = cv::vx_setall_s16(1);
-    const cv::v_uint8 dark_v = cv::vx_setall_u8(static_cast<std::uint8_t>(std::clamp(dark, 0, 255)));
-    const cv::v_uint8 bright_v = cv::vx_setall_u8(static_cast<std::uint8_t>(std::clamp(bright, 0, 255)));
     cv::v_uint32 luma_acc = cv::vx_setzero_u32();
     int dark_acc = 0, bright_acc = 0;
-    if (dark >= 0 && dark <= 255 && bright >= 0 && bright <= 255) {
+    if (dark >= 0 && dark <= 255 && bright >= 0 && bright <= 255) {  // else (an unvalidated config) the scalar loop
+      const cv::v_uint8 dark_v = cv::vx_setall_u8(static_cast<std::uint8_t>(dark));
+      const cv::v_uint8 bright_v = cv::vx_setall_u8(static_cast<std::uint8_t>(bright));
       for (; x <= bgr.cols - lanes; x += lanes) {
         cv::v_uint8 b, g, r;
         cv::v_load_deinterleave(p[x].val, b, g, r);
