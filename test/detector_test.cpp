@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <limits>
+#include <string>
 #include <thread>
 
 #include "sim_test_helpers.h"
@@ -21,6 +22,17 @@ sim::Scene twoBuoys() {
   sim::Scene s = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
   s.sensor.encoding = "bgr8";
   return s;
+}
+
+/// The same objects, in the same order, at the same place, from the same number of points.
+void expectSameObjects(const DetectionResult& got, const DetectionResult& expected, const std::string& what) {
+  ASSERT_EQ(got.objects.size(), expected.objects.size()) << what;
+  for (std::size_t k = 0; k < expected.objects.size(); ++k) {
+    EXPECT_EQ(got.objects[k].colour, expected.objects[k].colour) << what;
+    EXPECT_EQ(got.objects[k].shape, expected.objects[k].shape) << what;
+    EXPECT_EQ(got.objects[k].position_m, expected.objects[k].position_m) << what;
+    EXPECT_EQ(got.objects[k].points.size(), expected.objects[k].points.size()) << what;
+  }
 }
 
 }  // namespace
@@ -69,14 +81,26 @@ TEST(Detector, ConcurrentCallsOnOneDetectorGiveTheSameResults) {
     });
   }
   for (std::thread& t : threads) t.join();
-  for (std::size_t i = 0; i < got.size(); ++i) {
-    const DetectionResult& e = expected[i % 2];
-    ASSERT_EQ(got[i].objects.size(), e.objects.size()) << "call " << i;
-    for (std::size_t k = 0; k < e.objects.size(); ++k) {
-      EXPECT_EQ(got[i].objects[k].colour, e.objects[k].colour) << "call " << i;
-      EXPECT_EQ(got[i].objects[k].shape, e.objects[k].shape) << "call " << i;
-      EXPECT_EQ(got[i].objects[k].position_m, e.objects[k].position_m) << "call " << i;
-      EXPECT_EQ(got[i].objects[k].points.size(), e.objects[k].points.size()) << "call " << i;
+  for (std::size_t i = 0; i < got.size(); ++i) expectSameObjects(got[i], expected[i % 2], "call " + std::to_string(i));
+  cv::setNumThreads(opencv_threads);
+}
+
+// A pair's objects measured on the detector's own threads give what they give one after another.
+TEST(Detector, ObjectThreadsChangeNothingButTheTime) {
+  const int opencv_threads = cv::getNumThreads();
+  cv::setNumThreads(1);
+  const sim::Renderer renderer(twoBuoys());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  DetectorConfig one_by_one = defaultConfig();
+  one_by_one.pair_threads = 1;
+  const DetectionResult expected = Detector(one_by_one, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(expected.objects.size(), 2U);
+  for (int threads : {2, 3, 16}) {
+    DetectorConfig config = defaultConfig();
+    config.pair_threads = threads;
+    const Detector detector(config, renderer.calibration());
+    for (int repeat = 0; repeat < 3; ++repeat) {
+      expectSameObjects(detector.detect(pair.left, pair.right), expected, std::to_string(threads) + " threads");
     }
   }
   cv::setNumThreads(opencv_threads);

@@ -10,8 +10,10 @@
 #include <cstdint>
 #include <iterator>
 #include <stdexcept>
+#include <vector>
 
 #include "underwater_stereo/detection/image_checks.h"
+#include "underwater_stereo/detection/work_on_threads.h"
 
 namespace underwater_stereo {
 namespace {
@@ -94,6 +96,34 @@ BlobSums sumsOver(const cv::Mat& bgr, const WaterContrast& wc, const cv::Mat& sa
   return s;
 }
 
+/// `inside` (0 or 255) grown by kRingPx pixels in every direction, as cv::dilate with a square of side
+/// 2 kRingPx + 1 grows it (pixels beyond the edge take no part): rows, then columns, over a zero-padded copy.
+/// cv::dilate's set-up per call was most of its cost on the ~300 small regions of a frame.
+cv::Mat grownByRing(const cv::Mat& inside) {
+  constexpr int kSide = 2 * kRingPx + 1;
+  cv::Mat across(inside.rows + 2 * kRingPx, inside.cols, CV_8UC1, cv::Scalar(0));
+  std::vector<std::uint8_t> padded(inside.cols + 2 * kRingPx, 0);
+  for (int y = 0; y < inside.rows; ++y) {
+    std::copy_n(inside.ptr<std::uint8_t>(y), inside.cols, padded.begin() + kRingPx);
+    auto* out = across.ptr<std::uint8_t>(y + kRingPx);
+    for (int x = 0; x < inside.cols; ++x) {
+      std::uint8_t m = padded[x];
+      for (int k = 1; k < kSide; ++k) m = std::max(m, padded[x + k]);
+      out[x] = m;
+    }
+  }
+  cv::Mat grown(inside.size(), CV_8UC1);
+  for (int y = 0; y < inside.rows; ++y) {
+    auto* out = grown.ptr<std::uint8_t>(y);
+    std::copy_n(across.ptr<std::uint8_t>(y), inside.cols, out);
+    for (int k = 1; k < kSide; ++k) {
+      const auto* row = across.ptr<std::uint8_t>(y + k);
+      for (int x = 0; x < inside.cols; ++x) out[x] = std::max(out[x], row[x]);
+    }
+  }
+  return grown;
+}
+
 /// Channel `c` of a region's mean contrast (or its chroma) in the frame's own spreads of it: how unusual the
 /// region is in this frame's water, whatever the water (the saliency's per-channel terms, signed).
 float zScore(const cv::Vec3d& value, const ContrastStats& stats, SaliencyKind kind, int c) {
@@ -106,8 +136,7 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
   const cv::Rect outer = (b.roi + cv::Size(2 * kRingPx, 2 * kRingPx) - cv::Point(kRingPx, kRingPx)) & frame;
   cv::Mat inside = cv::Mat::zeros(outer.size(), CV_8UC1);
   b.mask.copyTo(inside(b.roi - outer.tl()));
-  cv::Mat ring;
-  cv::dilate(inside, ring, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * kRingPx + 1, 2 * kRingPx + 1)));
+  const cv::Mat ring = grownByRing(inside);
   const BlobSums s = sumsOver(bgr, wc, wc.saliency[static_cast<int>(b.kind)], outer, inside, ring);
   const double n = std::max(s.n, 1.0);
   cv::Vec3d f_mean, f_std, r_mean;
@@ -179,35 +208,34 @@ cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double lev
   return mask;
 }
 
-std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config) {
+std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,
+                                       int threads) {
   requireBgr8(bgr, "proposeBlobs");
   if (contrast.contrast.size() != bgr.size()) throw std::invalid_argument("proposeBlobs: contrast and image sizes differ");
   const auto problems = config.validate();
   if (!problems.empty()) throw std::invalid_argument("proposeBlobs: " + problems.front());
-  // Each (saliency, level) cut on its own (in parallel with OpenCV's threads), then in that order: the same
-  // proposals whichever thread cut them.
+  // Each (saliency, level) cut on its own (in parallel), then in that order: the same proposals whichever
+  // thread cut them.
   const int levels = static_cast<int>(config.levels.size());
   std::vector<std::vector<BlobProposal>> cuts(2 * levels);
-  cv::parallel_for_(cv::Range(0, 2 * levels), [&](const cv::Range& range) {
-    for (int k = range.start; k < range.end; ++k) {
-      const SaliencyKind kind = k < levels ? SaliencyKind::kChroma : SaliencyKind::kFull;
-      const double level = config.levels[k % levels];
-      std::vector<std::vector<cv::Point>> contours;
-      cv::findContours(salientMask(contrast, kind, level), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-      for (auto& contour : contours) {
-        const double area = cv::contourArea(contour);
-        if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) continue;
-        BlobProposal b;
-        b.roi = cv::boundingRect(contour);
-        b.mask = cv::Mat::zeros(b.roi.size(), CV_8UC1);
-        cv::drawContours(b.mask, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8,
-                         cv::noArray(), 0, -b.roi.tl());
-        b.area_px = area;
-        b.kind = kind;
-        b.level = level;
-        b.contour = std::move(contour);
-        cuts[k].push_back(std::move(b));
-      }
+  workOnThreads(2 * levels, threads, [&](int k) {
+    const SaliencyKind kind = k < levels ? SaliencyKind::kChroma : SaliencyKind::kFull;
+    const double level = config.levels[k % levels];
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(salientMask(contrast, kind, level), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    for (auto& contour : contours) {
+      const double area = cv::contourArea(contour);
+      if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) continue;
+      BlobProposal b;
+      b.roi = cv::boundingRect(contour);
+      b.mask = cv::Mat::zeros(b.roi.size(), CV_8UC1);
+      cv::drawContours(b.mask, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8,
+                       cv::noArray(), 0, -b.roi.tl());
+      b.area_px = area;
+      b.kind = kind;
+      b.level = level;
+      b.contour = std::move(contour);
+      cuts[k].push_back(std::move(b));
     }
   });
   std::vector<BlobProposal> out;
@@ -219,8 +247,11 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
     });
     out.resize(config.max_proposals);
   }
-  cv::parallel_for_(cv::Range(0, static_cast<int>(out.size())), [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) out[i].features = describe(bgr, contrast, out[i]);
+  // In blocks of proposals (one index per proposal would make the threads fight over the counter).
+  constexpr int kBlock = 16;
+  const int n = static_cast<int>(out.size());
+  workOnThreads((n + kBlock - 1) / kBlock, threads, [&](int block) {
+    for (int i = block * kBlock; i < std::min(n, (block + 1) * kBlock); ++i) out[i].features = describe(bgr, contrast, out[i]);
   });
   return out;
 }

@@ -15,6 +15,7 @@
 #include "underwater_stereo/detection/object_pieces.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
 #include "underwater_stereo/detection/stopwatch.h"
+#include "underwater_stereo/detection/work_on_threads.h"
 
 namespace underwater_stereo {
 namespace {
@@ -190,7 +191,8 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     // Contrast with the water is measured as a ratio normalised by the frame's own spread: no contrast
     // enhancement or white balance before it.
     out.searched = blurredForSearch(small, search);
-    LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates);
+    LearnedSearch found =
+        findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates, config.pair_threads);
     t.colour_ms = watch.lapMs();
     out.water = found.contrast.water;
     out.contrast_stats = found.contrast.stats;
@@ -278,7 +280,8 @@ std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config_.search_scale);
   if (assessQuality(small, config_.quality).spoiled()) return {};
   const cv::Mat searched = blurredForSearch(small, search_config_);
-  std::vector<BlobProposal> out = proposeLearned(searched, config_.learned, search_config_.candidates).regions;
+  std::vector<BlobProposal> out =
+      proposeLearned(searched, config_.learned, search_config_.candidates, config_.pair_threads).regions;
   for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / config_.search_scale);
   return out;
 }
@@ -374,7 +377,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                          : cv::Mat();
   result.timings.colour_ms += watch.lapMs();
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
-  // small ones fill in behind it on the other core.
+  // small ones fill in behind it on the other thread.
   const int n = static_cast<int>(front.candidates.size());
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
@@ -398,18 +401,13 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     }
     return measure(c, left, right, right_colour, origin, t, rejected);
   };
-  auto measureRange = [&](const cv::Range& range) {
-    for (int i = range.start; i < range.end; ++i) {
-      const int k = order[i];
-      found[k] = measureOne(front.candidates[k], times[k], why[k]);
-    }
-  };
-  // One object alone: OpenCV's own parallel loops (block matching's stripes, remaps) get both cores.
-  if (n == 1) {
-    measureRange(cv::Range(0, 1));
-  } else {
-    cv::parallel_for_(cv::Range(0, n), measureRange);
-  }
+  // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
+  // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may
+  // spread it over the cores.
+  workOnThreads(n, config_.pair_threads, [&](int i) {
+    const int k = order[i];
+    found[k] = measureOne(front.candidates[k], times[k], why[k]);
+  });
   joinPieces(front.candidates, found, why, times, measureOne, left.size(), kPieceGapInEps * config_.cluster.eps_m);
   for (int k = 0; k < n; ++k) {
     addObjectStages(result.timings, times[k]);

@@ -119,6 +119,8 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_INT(min_cluster_points)},
       {"", "search_scale", 0.1, 1, nullptr, "The 2D stages run on the frame scaled by this",
        UWS_REAL(search_scale)},
+      {"", "pair_threads", 1, 16, nullptr, "Threads working on one pair (its 2D search, its objects)",
+       UWS_INT(pair_threads)},
   };
   return table;
 }
@@ -177,7 +179,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   YamlFields f(problems);
   DetectorConfig c;
   f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "colour_model", "stereo", "cluster",
-                        "shape", "min_cluster_points", "search_scale"});
+                        "shape", "min_cluster_points", "search_scale", "pair_threads"});
   if (!root.IsMap()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   if (const YAML::Node q = root["quality"]) readTunables(f, q, "quality", c);
   std::vector<std::string> without_hue;

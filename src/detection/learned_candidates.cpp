@@ -88,21 +88,22 @@ std::vector<std::string> LearnedColourConfig::validate() const {
   return p;
 }
 
-LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates) {
+LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates,
+                                int threads) {
   ProposalConfig proposals = config.proposals;
   proposals.min_area_px = candidates.min_area_px;
   proposals.max_area_px = candidates.max_area_px;
   LearnedProposals out;
-  out.contrast = measureWaterContrast(bgr, config.water);
-  out.regions = proposeBlobs(bgr, out.contrast, proposals);
+  out.contrast = measureWaterContrast(bgr, config.water, threads);
+  out.regions = proposeBlobs(bgr, out.contrast, proposals, threads);
   return out;
 }
 
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
-                                    const LearnedColourConfig& config, const CandidateConfig& candidates) {
+                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads) {
   requireBgr8(bgr, "findLearnedCandidates");
   if (!config.model || config.model->empty()) throw std::invalid_argument("findLearnedCandidates: no colour model loaded");
-  LearnedProposals proposed = proposeLearned(bgr, config, candidates);
+  LearnedProposals proposed = proposeLearned(bgr, config, candidates, threads);
   LearnedSearch out;
   out.contrast = std::move(proposed.contrast);
   // The model's colour k is the config's class designated[k] (-1: learnt but not designated here).

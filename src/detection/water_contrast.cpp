@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/detection/image_checks.h"
+#include "underwater_stereo/detection/work_on_threads.h"
 
 namespace underwater_stereo {
 namespace {
@@ -75,8 +76,9 @@ struct ContrastOf {
   }
 };
 
-/// The frame's spread of chroma and contrast, on every kStatsStep-th pixel of every kStatsStep-th row.
-ContrastStats statsOf(const cv::Mat& bgr, const cv::Mat& water, const ContrastOf& contrast) {
+/// The frame's spread of chroma and contrast, on every kStatsStep-th pixel of every kStatsStep-th row (the two
+/// spreads on `threads` threads).
+ContrastStats statsOf(const cv::Mat& bgr, const cv::Mat& water, const ContrastOf& contrast, int threads) {
   std::array<std::vector<float>, 3> chroma, full;
   const std::size_t samples = std::size_t((bgr.rows + kStatsStep - 1) / kStatsStep) * ((bgr.cols + kStatsStep - 1) / kStatsStep);
   for (int k = 0; k < 3; ++k) {
@@ -95,8 +97,9 @@ ContrastStats statsOf(const cv::Mat& bgr, const cv::Mat& water, const ContrastOf
     }
   }
   ContrastStats stats;
-  spreadOf(chroma, stats.median[0], stats.spread[0]);
-  spreadOf(full, stats.median[1], stats.spread[1]);
+  workOnThreads(2, threads, [&](int k) {
+    spreadOf(k == 0 ? chroma : full, stats.median[k], stats.spread[k]);
+  });
   return stats;
 }
 
@@ -116,23 +119,25 @@ std::vector<std::string> WaterContrastConfig::validate() const {
 
 namespace {
 
+/// Rows of the image per share of measureAgainstWater's work.
+constexpr int kRowsPerShare = 32;
+
 /// Contrast and saliency of `out` from its image and water (stats given, or measured when null), in one pass
 /// per pixel (OpenCV's per-operation passes over float images cost ~5x more here; the chroma is not stored,
-/// being the contrast minus its channel mean).
+/// being the contrast minus its channel mean), on `threads` threads.
 void measureAgainstWater(const cv::Mat& bgr, const WaterContrastConfig& config, const ContrastStats* stats,
-                         WaterContrast& out) {
+                         int threads, WaterContrast& out) {
   const ContrastOf contrast(config.ratio_offset);
-  out.stats = stats ? *stats : statsOf(bgr, out.water, contrast);
+  out.stats = stats ? *stats : statsOf(bgr, out.water, contrast, threads);
   const cv::Vec3f m0 = out.stats.median[0], m1 = out.stats.median[1];
   const cv::Vec3f k0(1.f / out.stats.spread[0][0], 1.f / out.stats.spread[0][1], 1.f / out.stats.spread[0][2]);
   const cv::Vec3f k1(1.f / out.stats.spread[1][0], 1.f / out.stats.spread[1][1], 1.f / out.stats.spread[1][2]);
   out.contrast.create(bgr.size(), CV_32FC3);
   out.saliency[0].create(bgr.size(), CV_32FC1);
   out.saliency[1].create(bgr.size(), CV_32FC1);
-  // Rows in parallel (OpenCV's threads: one worker with both cores halves this stage; each row's result is
-  // the same either way).
-  cv::parallel_for_(cv::Range(0, bgr.rows), [&](const cv::Range& rows) {
-    for (int y = rows.start; y < rows.end; ++y) {
+  // Rows in parallel (each row's result is the same either way).
+  workOnThreads((bgr.rows + kRowsPerShare - 1) / kRowsPerShare, threads, [&](int share) {
+    for (int y = share * kRowsPerShare; y < std::min(bgr.rows, (share + 1) * kRowsPerShare); ++y) {
       const auto* i = bgr.ptr<cv::Vec3b>(y);
       const auto* w = out.water.ptr<cv::Vec3b>(y);
       auto* c = out.contrast.ptr<cv::Vec3f>(y);
@@ -178,7 +183,7 @@ void requireValid(const WaterContrastConfig& config, const char* who) {
 
 }  // namespace
 
-WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig& config) {
+WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig& config, int threads) {
   requireBgr8(bgr, "measureWaterContrast");
   requireValid(config, "measureWaterContrast");
   WaterContrast out;
@@ -189,7 +194,7 @@ WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig
   cv::resize(bgr, shrunk, small, 0, 0, cv::INTER_AREA);
   cv::medianBlur(shrunk, shrunk, kMedianCells);
   cv::resize(shrunk, out.water, bgr.size(), 0, 0, cv::INTER_LINEAR);
-  measureAgainstWater(bgr, config, nullptr, out);
+  measureAgainstWater(bgr, config, nullptr, threads, out);
   return out;
 }
 
@@ -201,7 +206,7 @@ WaterContrast contrastAgainst(const cv::Mat& bgr, const cv::Mat& water, const Co
   if (water.size() != bgr.size()) throw std::invalid_argument("contrastAgainst: image and water sizes differ");
   WaterContrast out;
   out.water = water;
-  measureAgainstWater(bgr, config, &stats, out);
+  measureAgainstWater(bgr, config, &stats, 1, out);
   return out;
 }
 

@@ -38,9 +38,11 @@ struct BlobProposal {
 constexpr int kBlobFeatureCount = 36;
 const std::vector<std::string>& blobFeatureNames();
 
-/// Regions of `bgr` (the searched image, 8-bit BGR) measured by `contrast` (measureWaterContrast of it).
+/// Regions of `bgr` (the searched image, 8-bit BGR) measured by `contrast` (measureWaterContrast of it), on
+/// `threads` threads (workOnThreads; the same regions whatever the number).
 /// @throw std::invalid_argument when the sizes differ, the image is not CV_8UC3 or the config is invalid.
-std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config);
+std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,
+                                       int threads = 1);
 
 /// The mask (CV_8UC1 0/255, of `contrast`'s size) of the pixels a proposal of this kind and level is cut from.
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level);

@@ -53,12 +53,15 @@ struct LearnedProposals {
   WaterContrast contrast;
   std::vector<BlobProposal> regions;
 };
+/// On `threads` threads (workOnThreads; the same result whatever the number).
 /// @throw std::invalid_argument when bgr is not CV_8UC3 or a config is invalid.
-LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates);
+LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates,
+                                int threads = 1);
 
 /// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
-/// colours, by name). @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
+/// colours, by name). On `threads` threads (workOnThreads; the same result whatever the number).
+/// @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
-                                    const LearnedColourConfig& config, const CandidateConfig& candidates);
+                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads = 1);
 
 }  // namespace underwater_stereo

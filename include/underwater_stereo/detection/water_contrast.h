@@ -46,9 +46,10 @@ struct WaterContrast {
 /// The chroma of a contrast: minus its mean over the channels (brightness removed).
 cv::Vec3f chromaOf(const cv::Vec3f& contrast);
 
-/// Measures `bgr` (8-bit BGR) against its own water and spread.
+/// Measures `bgr` (8-bit BGR) against its own water and spread, on `threads` threads (workOnThreads; the same
+/// result whatever the number).
 /// @throw std::invalid_argument when `bgr` is empty or not CV_8UC3, or the config is invalid.
-WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig& config);
+WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig& config, int threads = 1);
 
 /// Measures `bgr` against a given water colour (CV_8UC3 of its size) and spread: a part of the right frame
 /// measured exactly like the left (both cameras look in the same direction through the same water, so the
