@@ -195,7 +195,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     NODELET_INFO_STREAM("DetectorNodelet: " << config_.colours.classes.size() << " designated colours from "
                         << config_file << ", " << (approximate ? "approximate" : "exact") << " sync on "
                         << left_topic_ << " / " << right_topic_ << ", objects on " << pnh.resolveName("objects")
-                        << ", " << worker_threads << " worker(s), OpenCV "
+                        << ", " << worker_threads << " worker(s) of " << config_.pair_threads
+                        << " thread(s) each (pair_threads), OpenCV "
                         << (opencv_threads < 0 ? "threads as the process has them (" + std::to_string(cv::getNumThreads()) + ")"
                                                : "set to " + std::to_string(cv::getNumThreads()) +
                                                      " thread(s) for this whole process"));

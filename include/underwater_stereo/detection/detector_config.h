@@ -35,7 +35,7 @@ struct DetectorConfig {
   /// Threads working on one pair: the calling one and up to pair_threads - 1 of the detector's own (1: the
   /// calling thread alone). The 2D search's passes and the pair's objects are shared out over them, with the
   /// same result whatever the number. Not OpenCV's pool, which the nodelet keeps single-threaded: a second core
-  /// shortens a pair's latency at no extra CPU (docs/performance.md, session 6).
+  /// shortens a pair's latency by ~15-25 % for ~5 % more CPU (docs/performance.md, session 6).
   int pair_threads = 2;
 
   /// Every problem of every section.
