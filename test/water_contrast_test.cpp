@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "underwater_stereo/detection/blob_proposals.h"
@@ -134,4 +135,23 @@ TEST(BlobProposals, FeatureNamesMatchTheCount) {
   bad.levels.clear();
   bad.min_area_px = 0;
   EXPECT_EQ(bad.validate().size(), 2u);
+}
+
+// squareDilation gives what cv::dilate gives, on masks of every width (whole SIMD lanes, tails, a single
+// pixel) and radii, with blobs touching the edges.
+TEST(BlobProposals, SquareDilationEqualsOpenCvs) {
+  std::mt19937 rng(7);
+  for (int radius : {0, 1, 3, 5}) {
+    for (const cv::Size size : {cv::Size(1, 1), cv::Size(3, 2), cv::Size(17, 9), cv::Size(64, 33), cv::Size(97, 40)}) {
+      cv::Mat mask(size, CV_8UC1);
+      for (int y = 0; y < size.height; ++y) {
+        for (int x = 0; x < size.width; ++x) mask.at<std::uint8_t>(y, x) = rng() % 9 == 0 ? 255 : 0;
+      }
+      cv::Mat expected;
+      cv::dilate(mask, expected, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
+      const cv::Mat got = squareDilation(mask, radius);
+      ASSERT_EQ(got.size(), size);
+      EXPECT_EQ(cv::countNonZero(got != expected), 0) << size << " radius " << radius;
+    }
+  }
 }

@@ -97,42 +97,6 @@ BlobSums sumsOver(const cv::Mat& bgr, const WaterContrast& wc, const cv::Mat& sa
   return s;
 }
 
-/// `inside` (0 or 255) grown by kRingPx pixels in every direction, as cv::dilate with a square of side
-/// 2 kRingPx + 1 grows it (pixels beyond the edge take no part): rows, then columns, over a zero-padded copy.
-/// cv::dilate's set-up per call was most of its cost on the ~300 small regions of a frame.
-cv::Mat grownByRing(const cv::Mat& inside) {
-  constexpr int kSide = 2 * kRingPx + 1;
-  // The largest of kSide rows (or of kSide shifted copies of one row) at every pixel, several pixels at a time.
-  const auto maxOf = [](const std::uint8_t* const* rows, std::uint8_t* out, int n) {
-    int x = 0;
-#if CV_SIMD
-    for (; x <= n - cv::v_uint8::nlanes; x += cv::v_uint8::nlanes) {
-      cv::v_uint8 m = cv::vx_load(rows[0] + x);
-      for (int k = 1; k < kSide; ++k) m = cv::v_max(m, cv::vx_load(rows[k] + x));
-      cv::v_store(out + x, m);
-    }
-#endif
-    for (; x < n; ++x) {
-      std::uint8_t m = rows[0][x];
-      for (int k = 1; k < kSide; ++k) m = std::max(m, rows[k][x]);
-      out[x] = m;
-    }
-  };
-  cv::Mat across(inside.rows + 2 * kRingPx, inside.cols, CV_8UC1, cv::Scalar(0));
-  std::vector<std::uint8_t> padded(inside.cols + 2 * kRingPx, 0);
-  const std::uint8_t* rows[kSide];
-  for (int y = 0; y < inside.rows; ++y) {
-    std::copy_n(inside.ptr<std::uint8_t>(y), inside.cols, padded.begin() + kRingPx);
-    for (int k = 0; k < kSide; ++k) rows[k] = padded.data() + k;
-    maxOf(rows, across.ptr<std::uint8_t>(y + kRingPx), inside.cols);
-  }
-  cv::Mat grown(inside.size(), CV_8UC1);
-  for (int y = 0; y < inside.rows; ++y) {
-    for (int k = 0; k < kSide; ++k) rows[k] = across.ptr<std::uint8_t>(y + k);
-    maxOf(rows, grown.ptr<std::uint8_t>(y), inside.cols);
-  }
-  return grown;
-}
 
 /// Channel `c` of a region's mean contrast (or its chroma) in the frame's own spreads of it: how unusual the
 /// region is in this frame's water, whatever the water (the saliency's per-channel terms, signed).
@@ -146,7 +110,7 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
   const cv::Rect outer = (b.roi + cv::Size(2 * kRingPx, 2 * kRingPx) - cv::Point(kRingPx, kRingPx)) & frame;
   cv::Mat inside = cv::Mat::zeros(outer.size(), CV_8UC1);
   b.mask.copyTo(inside(b.roi - outer.tl()));
-  const cv::Mat ring = grownByRing(inside);
+  const cv::Mat ring = squareDilation(inside, kRingPx);
   const BlobSums s = sumsOver(bgr, wc, wc.saliency[static_cast<int>(b.kind)], outer, inside, ring);
   const double n = std::max(s.n, 1.0);
   cv::Vec3d f_mean, f_std, r_mean;
@@ -216,6 +180,41 @@ cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double lev
   cv::compare(contrast.saliency[static_cast<int>(kind)], level, mask, cv::CMP_GT);
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN, openKernel());
   return mask;
+}
+
+cv::Mat squareDilation(const cv::Mat& mask, int radius) {
+  CV_Assert(mask.type() == CV_8UC1 && radius >= 0);
+  const int side = 2 * radius + 1;
+  // The largest of `side` rows (or of `side` shifted copies of one row) at every pixel, several at a time.
+  std::vector<const std::uint8_t*> rows(side);
+  const auto maxOf = [&rows, side](std::uint8_t* out, int n) {
+    int x = 0;
+#if CV_SIMD
+    for (; x <= n - cv::v_uint8::nlanes; x += cv::v_uint8::nlanes) {
+      cv::v_uint8 m = cv::vx_load(rows[0] + x);
+      for (int k = 1; k < side; ++k) m = cv::v_max(m, cv::vx_load(rows[k] + x));
+      cv::v_store(out + x, m);
+    }
+#endif
+    for (; x < n; ++x) {
+      std::uint8_t m = rows[0][x];
+      for (int k = 1; k < side; ++k) m = std::max(m, rows[k][x]);
+      out[x] = m;
+    }
+  };
+  cv::Mat across(mask.rows + 2 * radius, mask.cols, CV_8UC1, cv::Scalar(0));
+  std::vector<std::uint8_t> padded(mask.cols + 2 * radius, 0);
+  for (int y = 0; y < mask.rows; ++y) {
+    std::copy_n(mask.ptr<std::uint8_t>(y), mask.cols, padded.begin() + radius);
+    for (int k = 0; k < side; ++k) rows[k] = padded.data() + k;
+    maxOf(across.ptr<std::uint8_t>(y + radius), mask.cols);
+  }
+  cv::Mat grown(mask.size(), CV_8UC1);
+  for (int y = 0; y < mask.rows; ++y) {
+    for (int k = 0; k < side; ++k) rows[k] = across.ptr<std::uint8_t>(y + k);
+    maxOf(grown.ptr<std::uint8_t>(y), mask.cols);
+  }
+  return grown;
 }
 
 std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,
