@@ -75,15 +75,13 @@ ColourModel learnt(const std::vector<LabelledFrame>& frames, const LearningOptio
   DetectorConfig proposer_config = baseConfig();
   proposer_config.candidates.source = ContourSource::kColourMask;
   const Detector proposer(proposer_config);
-  cv::Mat features;
-  std::vector<int> labels;
+  std::vector<FrameSamples> samples;
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    const FrameSamples s = samplesOf(frames[i], proposer, o, static_cast<unsigned>(i + 1));
-    if (s.features.empty()) continue;
-    features.push_back(s.features);
-    labels.insert(labels.end(), s.labels.begin(), s.labels.end());
+    samples.push_back(samplesOf(frames[i], proposer, o, static_cast<unsigned>(i + 1)));
   }
-  return ColourModel::train(features, labels, o.colours, o.training);
+  std::vector<const FrameSamples*> parts;
+  for (const FrameSamples& s : samples) parts.push_back(&s);
+  return learnColourModel(parts, o);
 }
 
 }  // namespace

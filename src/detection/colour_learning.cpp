@@ -268,6 +268,17 @@ FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, con
   return out;
 }
 
+ColourModel learnColourModel(const std::vector<const FrameSamples*>& parts, const LearningOptions& options) {
+  cv::Mat features;
+  std::vector<int> labels;
+  for (const FrameSamples* p : parts) {
+    if (p->features.empty()) continue;
+    features.push_back(p->features);
+    labels.insert(labels.end(), p->labels.begin(), p->labels.end());
+  }
+  return ColourModel::train(features, labels, options.colours, options.training);
+}
+
 void LearningScore::add(const LearningScore& o) {
   if (labelled.empty()) {
     *this = o;

@@ -76,11 +76,7 @@ ColourModel ColourModel::load(const std::string& path) {
   } catch (const cv::Exception& e) {
     throw std::invalid_argument("colour model " + path + ": invalid (" + e.msg + ")");
   }
-  if (!m.forest_->isTrained() || m.forest_->getVarCount() != m.feature_count_) {
-    throw std::invalid_argument("colour model " + path + ": holds no trained forest of " +
-                                std::to_string(m.feature_count_) + " features");
-  }
-  try {
+  try {  // also refuses a forest that is no trained classifier of feature_count_ features
     m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("colour model " + path + ": " + e.what());

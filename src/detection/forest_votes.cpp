@@ -28,7 +28,7 @@ cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
 
 ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) {
   if (!forest.isTrained() || !forest.isClassifier() || forest.getVarCount() != feature_count || feature_count < 1) {
-    throw std::invalid_argument("ForestVotes: not a trained classifier over " + std::to_string(feature_count) + " features");
+    throw std::invalid_argument("ForestVotes: no trained classifier forest of " + std::to_string(feature_count) + " features");
   }
   const std::vector<cv::ml::DTrees::Node>& nodes = forest.getNodes();
   const std::vector<cv::ml::DTrees::Split>& splits = forest.getSplits();

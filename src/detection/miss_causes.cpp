@@ -7,6 +7,7 @@
 #include "underwater_stereo/detection/learned_candidates.h"
 
 namespace underwater_stereo {
+
 std::string missCauseName(MissCause cause) {
   switch (cause) {
     case MissCause::kNoProposal: return "no proposal covers it";

@@ -74,10 +74,7 @@ ShapeModel ShapeModel::load(const std::string& path) {
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(what + "unreadable (" + e.msg + ")");
   }
-  if (!m.forest_->isTrained() || m.forest_->getVarCount() != kShapeFeatureCount) {
-    throw std::invalid_argument(what + "holds no trained forest of " + std::to_string(kShapeFeatureCount) + " features");
-  }
-  try {
+  try {  // also refuses a forest that is no trained classifier of kShapeFeatureCount features
     m.votes_ = ForestVotes(*m.forest_, kShapeFeatureCount);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(what + e.what());

@@ -193,17 +193,6 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   return frames;
 }
 
-ColourModel trainOn(const std::vector<const FrameSamples*>& parts, const LearningOptions& options) {
-  cv::Mat features;
-  std::vector<int> labels;
-  for (const FrameSamples* p : parts) {
-    if (p->features.empty()) continue;
-    features.push_back(p->features);
-    labels.insert(labels.end(), p->labels.begin(), p->labels.end());
-  }
-  return ColourModel::train(features, labels, options.colours, options.training);
-}
-
 void printScore(const LearningScore& s, const LearningOptions& options, const std::string& heading) {
   std::printf("\n%s\n\n| colour | labelled | found | recall %% |\n|---|---|---|---|\n", heading.c_str());
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
@@ -424,7 +413,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const Detector d(configWith(trainOn(samplesOfFrames(train), o.learning), o.choose.front(), {}));
+        const Detector d(configWith(learnColourModel(samplesOfFrames(train), o.learning), o.choose.front(), {}));
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         const auto found = detectionsOf(d, held_out);
         ordered.insert(ordered.end(), held_out.begin(), held_out.end());
@@ -455,7 +444,7 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const ColourModel model = trainOn(samplesOfFrames(train), o.learning);
+        const ColourModel model = learnColourModel(samplesOfFrames(train), o.learning);
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         if (!o.choose.empty()) {
           // Thresholds from the training folds only (inner cross-validation), judged on the held-out fold.
@@ -501,7 +490,7 @@ int main(int argc, char** argv) {
       std::printf("\nmin_confidence per colour chosen by %d-fold cross-validation on all frames: %s\n", o.folds,
                   thresholdsText(per_colour, o.learning).c_str());
     }
-    const ColourModel model = trainOn(samplesOfFrames(everything), o.learning);
+    const ColourModel model = learnColourModel(samplesOfFrames(everything), o.learning);
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
     const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)

@@ -85,6 +85,10 @@ struct FrameSamples {
 FrameSamples samplesOf(const LabelledFrame& frame, const Detector& proposer, const LearningOptions& options,
                        unsigned seed = 1);
 
+/// The colour model learnt from every sample of `parts` (options.colours, options.training).
+/// @throw std::invalid_argument as ColourModel::train (no background, a colour without samples).
+ColourModel learnColourModel(const std::vector<const FrameSamples*>& parts, const LearningOptions& options);
+
 /// Recall, false detections and confusions of a config on held-out frames.
 struct LearningScore {
   std::vector<int> labelled, found;  ///< per colour (labels >= min_label_px)
