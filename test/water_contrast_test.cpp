@@ -8,7 +8,10 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <utility>
+#include <vector>
 
+#include "underwater_stereo/detection/area_shrink.h"
 #include "underwater_stereo/detection/blob_proposals.h"
 #include "underwater_stereo/detection/water_contrast.h"
 
@@ -154,4 +157,43 @@ TEST(BlobProposals, SquareDilationEqualsOpenCvs) {
       EXPECT_EQ(cv::countNonZero(got != expected), 0) << size << " radius " << radius;
     }
   }
+}
+
+// shrinkByArea gives cv::resize's INTER_AREA bytes: on its own fast path (power-of-two cells across, rows not
+// dividing evenly; the water's 960x600 -> 30x19 among them) and on everything it hands to OpenCV.
+TEST(AreaShrink, EqualsOpenCvsInterArea) {
+  std::mt19937 rng(11);
+  std::vector<std::pair<cv::Mat, cv::Size>> cases;
+  cases.emplace_back(cv::Mat(600, 960, CV_8UC3), cv::Size(30, 19));
+  cases.emplace_back(cv::Mat(480, 640, CV_8UC3), cv::Size(20, 15));  // whole cells both ways: OpenCV's own path
+  cases.emplace_back(cv::Mat(3, 4, CV_8UC3), cv::Size(5, 5));        // larger than the image
+  cases.emplace_back(cv::Mat(100, 90, CV_8UC3), cv::Size(30, 19));   // 3-pixel cells
+  cases.emplace_back(cv::Mat(100, 64, CV_8UC1), cv::Size(16, 7));    // one channel
+  for (int k = 0; k < 200; ++k) {
+    const int width = 1 + static_cast<int>(rng() % 40), cell = 1 << (rng() % 7), rows = 1 + static_cast<int>(rng() % 700);
+    cases.emplace_back(cv::Mat(rows, width * cell, CV_8UC3), cv::Size(width, 1 + static_cast<int>(rng() % rows)));
+  }
+  int fast = 0, index = 0;
+  for (auto& [image, size] : cases) {
+    // Half noise over the whole range, half a flat colour with a little noise (sums near the rounding edges).
+    if (index++ % 2) {
+      cv::randu(image, 0, 256);
+    } else {
+      cv::Mat noise(image.size(), image.type());
+      cv::randu(noise, 0, 24);
+      image.setTo(cv::Scalar(rng() % 232, rng() % 232, rng() % 232));
+      image += noise;
+    }
+    fast += image.type() == CV_8UC3 && size.height < image.rows && image.rows % size.height != 0 &&
+            image.cols % size.width == 0 && ((image.cols / size.width) & (image.cols / size.width - 1)) == 0;
+    cv::Mat expected;
+    cv::resize(image, expected, size, 0, 0, cv::INTER_AREA);
+    const cv::Mat got = shrinkByArea(image, size);
+    ASSERT_EQ(got.size(), size);
+    ASSERT_EQ(got.type(), image.type());
+    EXPECT_EQ(cv::norm(got, expected, cv::NORM_INF), 0) << image.size() << " -> " << size;
+  }
+  EXPECT_GT(fast, 150) << "most cases on the fast path";
+  EXPECT_THROW(shrinkByArea(cv::Mat(), cv::Size(3, 3)), std::invalid_argument);
+  EXPECT_THROW(shrinkByArea(cv::Mat(10, 10, CV_8UC3), cv::Size(0, 3)), std::invalid_argument);
 }

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "underwater_stereo/detection/area_shrink.h"
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/work_on_threads.h"
 
@@ -190,8 +191,7 @@ WaterContrast measureWaterContrast(const cv::Mat& bgr, const WaterContrastConfig
   // The water: median of a shrunken copy, grown back smoothly.
   const cv::Size small(std::max(kMedianCells, static_cast<int>(std::lround(bgr.cols * config.background_scale))),
                        std::max(kMedianCells, static_cast<int>(std::lround(bgr.rows * config.background_scale))));
-  cv::Mat shrunk;
-  cv::resize(bgr, shrunk, small, 0, 0, cv::INTER_AREA);
+  cv::Mat shrunk = shrinkByArea(bgr, small);
   cv::medianBlur(shrunk, shrunk, kMedianCells);
   cv::resize(shrunk, out.water, bgr.size(), 0, 0, cv::INTER_LINEAR);
   measureAgainstWater(bgr, config, nullptr, threads, out);
