@@ -25,16 +25,46 @@ std::int64_t cubeKey(const Eigen::Vector3f& p, float size) {
   return (axis(p.x()) << 42) | (axis(p.y()) << 21) | axis(p.z());
 }
 
-/// (cube of side `size`, index) of every finite point, sorted: points of a cube together, cubes in key order.
-std::vector<std::pair<std::int64_t, int>> sortedByCube(const std::vector<Eigen::Vector3f>& points, float size) {
-  std::vector<std::pair<std::int64_t, int>> keyed;
-  keyed.reserve(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (points[i].allFinite()) keyed.emplace_back(cubeKey(points[i], size), static_cast<int>(i));
+/// Non-negative 64-bit keys to small integers, by open addressing (linear probing): the few hundred cells
+/// or columns of one object, where std::unordered_map's node per key costs more than the search it saves.
+class KeyTable {
+ public:
+  explicit KeyTable(std::size_t capacity) {
+    std::size_t size = 16;
+    while (size < 2 * capacity) size *= 2;
+    keys_.assign(size, kEmpty);
+    values_.resize(size);
+    mask_ = size - 1;
   }
-  std::sort(keyed.begin(), keyed.end());
-  return keyed;
-}
+
+  /// The value stored for `key`, storing `value` first if the key is new.
+  int findOrInsert(std::int64_t key, int value) {
+    std::size_t slot = hash(key);
+    while (keys_[slot] != kEmpty && keys_[slot] != key) slot = (slot + 1) & mask_;
+    if (keys_[slot] == kEmpty) {
+      keys_[slot] = key;
+      values_[slot] = value;
+    }
+    return values_[slot];
+  }
+
+  /// The value stored for `key`, or -1.
+  int find(std::int64_t key) const {
+    for (std::size_t slot = hash(key); keys_[slot] != kEmpty; slot = (slot + 1) & mask_) {
+      if (keys_[slot] == key) return values_[slot];
+    }
+    return -1;
+  }
+
+ private:
+  static constexpr std::int64_t kEmpty = -1;
+  std::size_t hash(std::int64_t key) const {
+    return static_cast<std::size_t>((static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull) >> 32) & mask_;
+  }
+  std::vector<std::int64_t> keys_;
+  std::vector<int> values_;
+  std::size_t mask_ = 0;
+};
 
 /// Points merged into cubic cells, in the order of their first point: cell i holds the points
 /// members[first[i]] .. members[first[i + 1] - 1] (ascending), whose mean is centroid[i].
@@ -46,45 +76,59 @@ struct Cells {
   int weight(int i) const { return first[i + 1] - first[i]; }
 };
 
-/// Sorting (cell, point) pairs instead of a hash map of growing lists: no allocation per cell.
+/// Cells numbered as their first point is met (a table of cube keys), then the points laid out cell by cell
+/// in ascending order (a counting sort): linear in the points, no allocation per cell.
 Cells voxelize(const std::vector<Eigen::Vector3f>& points, float cell) {
-  const std::vector<std::pair<std::int64_t, int>> keyed = sortedByCube(points, cell);
-  std::vector<std::pair<int, int>> runs;  // (first point, start in keyed) per cell
-  for (std::size_t k = 0; k < keyed.size(); ++k) {
-    if (k == 0 || keyed[k].first != keyed[k - 1].first) runs.emplace_back(keyed[k].second, static_cast<int>(k));
+  KeyTable table(points.size());
+  std::vector<int> cell_of(points.size(), -1);
+  int cells_found = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) continue;
+    cell_of[i] = table.findOrInsert(cubeKey(points[i], cell), cells_found);
+    if (cell_of[i] == cells_found) ++cells_found;
   }
-  std::sort(runs.begin(), runs.end());
   Cells cells;
-  cells.members.reserve(keyed.size());
-  cells.first.reserve(runs.size() + 1);
-  cells.centroid.reserve(runs.size());
-  for (const auto& [first_point, start] : runs) {
-    cells.first.push_back(static_cast<int>(cells.members.size()));
-    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
-    for (std::size_t k = start; k < keyed.size() && keyed[k].first == keyed[start].first; ++k) {
-      cells.members.push_back(keyed[k].second);
-      sum += points[keyed[k].second];
-    }
-    cells.centroid.push_back(sum / static_cast<float>(cells.members.size() - cells.first.back()));
+  cells.first.assign(cells_found + 1, 0);
+  for (const int c : cell_of) {
+    if (c >= 0) ++cells.first[c + 1];
   }
-  cells.first.push_back(static_cast<int>(cells.members.size()));
+  for (int c = 0; c < cells_found; ++c) cells.first[c + 1] += cells.first[c];
+  cells.members.resize(cells.first.back());
+  std::vector<int> next(cells.first.begin(), cells.first.end() - 1);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (cell_of[i] >= 0) cells.members[next[cell_of[i]]++] = static_cast<int>(i);
+  }
+  cells.centroid.reserve(cells_found);
+  for (int c = 0; c < cells_found; ++c) {
+    Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+    for (int k = cells.first[c]; k < cells.first[c + 1]; ++k) sum += points[cells.members[k]];
+    cells.centroid.push_back(sum / static_cast<float>(cells.weight(c)));
+  }
   return cells;
 }
 
-/// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide cube they lie in,
-/// so a query reads the 3 x 3 runs of cubes (each three stacked along z) around its own: everything within
-/// the radius lies there. A few times faster than a kd-tree for the few hundred centroids of an object.
+/// Fixed-radius neighbours of the cell centroids: the centroids sorted by the radius-wide cube they lie in
+/// (then by index), each column of cubes (x, y) found through a table, so a query reads the 3 x 3 columns
+/// around its own and, in each, the three cubes stacked along z around it: everything within the radius lies
+/// there. A few times faster than a kd-tree for the few hundred centroids of an object.
 class RadiusGrid {
  public:
-  RadiusGrid(const std::vector<Eigen::Vector3f>& centroids, float radius) : radius_(radius) {
-    for (const auto& [key, index] : sortedByCube(centroids, radius)) {
+  RadiusGrid(const std::vector<Eigen::Vector3f>& centroids, float radius)
+      : radius_(radius), columns_(centroids.size()) {
+    std::vector<std::pair<std::int64_t, int>> keyed;
+    keyed.reserve(centroids.size());
+    for (std::size_t i = 0; i < centroids.size(); ++i) keyed.emplace_back(cubeKey(centroids[i], radius), static_cast<int>(i));
+    std::sort(keyed.begin(), keyed.end());
+    for (const auto& [key, index] : keyed) {
+      columns_.findOrInsert(columnOf(key), static_cast<int>(keys_.size()));
       keys_.push_back(key);
       centroids_.push_back(centroids[index]);
       indices_.push_back(index);
     }
   }
 
-  /// Indices of the centroids strictly closer than the radius to `p` (p's own included).
+  /// Indices of the centroids strictly closer than the radius to `p` (p's own included), column by column
+  /// (x, then y, ascending), by cube and then index within a column.
   void neighbours(const Eigen::Vector3f& p, std::vector<int>& out) const {
     out.clear();
     const std::int64_t centre = cubeKey(p, radius_);
@@ -92,16 +136,22 @@ class RadiusGrid {
     for (const std::int64_t dx : {-1, 0, 1}) {
       for (const std::int64_t dy : {-1, 0, 1}) {
         const std::int64_t column = centre + (dx << 42) + (dy << 21);
-        const auto first = std::lower_bound(keys_.begin(), keys_.end(), column - 1);
-        for (auto k = static_cast<std::size_t>(first - keys_.begin()); k < keys_.size() && keys_[k] <= column + 1; ++k) {
-          if ((centroids_[k] - p).squaredNorm() < r2) out.push_back(indices_[k]);
+        const int start = columns_.find(columnOf(column));
+        if (start < 0) continue;
+        const std::int64_t base = columnOf(column);
+        for (auto k = static_cast<std::size_t>(start); k < keys_.size() && columnOf(keys_[k]) == base && keys_[k] <= column + 1; ++k) {
+          if (keys_[k] >= column - 1 && (centroids_[k] - p).squaredNorm() < r2) out.push_back(indices_[k]);
         }
       }
     }
   }
 
  private:
+  /// The key of a cube with its z part cleared: the same for every cube of one column.
+  static std::int64_t columnOf(std::int64_t key) { return key & ~((std::int64_t{1} << 21) - 1); }
+
   float radius_;
+  KeyTable columns_;  // column -> first position in keys_
   std::vector<std::int64_t> keys_;
   std::vector<Eigen::Vector3f> centroids_;
   std::vector<int> indices_;
