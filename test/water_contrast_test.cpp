@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <iostream>
 #include <random>
 #include <utility>
 #include <vector>
@@ -138,6 +139,48 @@ TEST(BlobProposals, FeatureNamesMatchTheCount) {
   bad.levels.clear();
   bad.min_area_px = 0;
   EXPECT_EQ(bad.validate().size(), 2u);
+}
+
+// A cut only in salientBand's rows finds what a cut of the whole frame finds: the whole mask is empty outside
+// the band and equal inside it, at every kind and level, with objects near the frame's top and bottom edges;
+// the proposals are the same with and without the rows' maxima.
+TEST(BlobProposals, CuttingOnlyTheSalientBandChangesNothing) {
+  for (const cv::Point centre : {cv::Point(400, 300), cv::Point(100, 4), cv::Point(500, 476)}) {
+    cv::Mat frame = frameWith(kWaters[1].veil, seen({20, 30, 200}, kWaters[1].veil, 0.4), centre, 20, 5);
+    cv::circle(frame, {200, 120}, 9, cv::Scalar(30, 200, 230), cv::FILLED);
+    const WaterContrast contrast = measureWaterContrast(frame, {});
+    ASSERT_EQ(contrast.row_max[0].size(), static_cast<std::size_t>(frame.rows));
+    const ProposalConfig config;
+    int empty = 0, narrow = 0;
+    for (const SaliencyKind kind : {SaliencyKind::kChroma, SaliencyKind::kFull}) {
+      for (const double level : config.levels) {
+        const cv::Mat whole = salientMask(contrast, kind, level);
+        const cv::Rect band = salientBand(contrast, kind, level);
+        cv::Mat outside = whole.clone();
+        if (band.empty()) {
+          ++empty;
+        } else {
+          EXPECT_EQ(cv::countNonZero(salientMask(contrast, kind, level, band) != whole(band)), 0) << level;
+          outside(band).setTo(0);
+          narrow += band.height < frame.rows;
+        }
+        EXPECT_EQ(cv::countNonZero(outside), 0) << "mask outside the band at level " << level;
+      }
+    }
+    EXPECT_GT(narrow, 0) << "some cut skips rows";
+    WaterContrast without = contrast;
+    without.row_max[0].clear();
+    without.row_max[1].clear();
+    const auto a = proposeBlobs(frame, contrast, config), b = proposeBlobs(frame, without, config);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].roi, b[i].roi);
+      EXPECT_EQ(a[i].contour, b[i].contour);
+      EXPECT_EQ(a[i].features, b[i].features);
+    }
+    std::cout << "object at " << centre << ": " << a.size() << " proposals, " << empty << " empty cuts, " << narrow
+              << " cuts on fewer rows" << std::endl;
+  }
 }
 
 // squareDilation gives what cv::dilate gives, on masks of every width (whole SIMD lanes, tails, a single

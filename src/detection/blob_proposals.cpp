@@ -176,10 +176,33 @@ std::vector<std::string> ProposalConfig::validate() const {
 }
 
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level) {
+  return salientMask(contrast, kind, level, cv::Rect(cv::Point(), contrast.saliency[static_cast<int>(kind)].size()));
+}
+
+cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level, const cv::Rect& band) {
   cv::Mat mask;
-  cv::compare(contrast.saliency[static_cast<int>(kind)], level, mask, cv::CMP_GT);
+  cv::compare(contrast.saliency[static_cast<int>(kind)](band), level, mask, cv::CMP_GT);
   cv::morphologyEx(mask, mask, cv::MORPH_OPEN, openKernel());
   return mask;
+}
+
+cv::Rect salientBand(const WaterContrast& contrast, SaliencyKind kind, double level) {
+  const cv::Mat& saliency = contrast.saliency[static_cast<int>(kind)];
+  const std::vector<float>& row_max = contrast.row_max[static_cast<int>(kind)];
+  if (static_cast<int>(row_max.size()) != saliency.rows) return cv::Rect(cv::Point(), saliency.size());
+  int first = -1, last = -1;
+  for (int y = 0; y < saliency.rows; ++y) {
+    if (row_max[y] > level) {
+      if (first < 0) first = y;
+      last = y;
+    }
+  }
+  if (first < 0) return {};
+  // kOpenPx rows of nothing on either side: the opening there (and so the mask's contours) is what it is in the
+  // whole frame.
+  first = std::max(0, first - kOpenPx);
+  last = std::min(saliency.rows - 1, last + kOpenPx);
+  return cv::Rect(0, first, saliency.cols, last - first + 1);
 }
 
 cv::Mat squareDilation(const cv::Mat& mask, int radius) {
@@ -231,7 +254,11 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
     const SaliencyKind kind = k < levels ? SaliencyKind::kChroma : SaliencyKind::kFull;
     const double level = config.levels[k % levels];
     std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(salientMask(contrast, kind, level), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    const cv::Rect band = salientBand(contrast, kind, level);
+    if (!band.empty()) {
+      cv::findContours(salientMask(contrast, kind, level, band), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
+                       band.tl());
+    }
     for (auto& contour : contours) {
       const double area = cv::contourArea(contour);
       if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) continue;

@@ -120,6 +120,19 @@ std::vector<std::string> WaterContrastConfig::validate() const {
 
 namespace {
 
+/// The largest of n non-negative floats, several at a time.
+float rowMax(const float* v, int n) {
+  float m = 0.f;
+  int x = 0;
+#if CV_SIMD
+  cv::v_float32 vm = cv::vx_setzero_f32();
+  for (; x <= n - cv::v_float32::nlanes; x += cv::v_float32::nlanes) vm = cv::v_max(vm, cv::vx_load(v + x));
+  m = cv::v_reduce_max(vm);
+#endif
+  for (; x < n; ++x) m = std::max(m, v[x]);
+  return m;
+}
+
 /// Rows of the image per share of measureAgainstWater's work.
 constexpr int kRowsPerShare = 32;
 
@@ -136,6 +149,8 @@ void measureAgainstWater(const cv::Mat& bgr, const WaterContrastConfig& config, 
   out.contrast.create(bgr.size(), CV_32FC3);
   out.saliency[0].create(bgr.size(), CV_32FC1);
   out.saliency[1].create(bgr.size(), CV_32FC1);
+  out.row_max[0].assign(bgr.rows, 0.f);
+  out.row_max[1].assign(bgr.rows, 0.f);
   // Rows in parallel (each row's result is the same either way).
   workOnThreads((bgr.rows + kRowsPerShare - 1) / kRowsPerShare, threads, [&](int share) {
     for (int y = share * kRowsPerShare; y < std::min(bgr.rows, (share + 1) * kRowsPerShare); ++y) {
@@ -173,6 +188,8 @@ void measureAgainstWater(const cv::Mat& bgr, const WaterContrastConfig& config, 
         s0[x] = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
         s1[x] = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
       }
+      out.row_max[0][y] = rowMax(s0, bgr.cols);
+      out.row_max[1][y] = rowMax(s1, bgr.cols);
     }
   });
 }

@@ -47,6 +47,16 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
 /// The mask (CV_8UC1 0/255, of `contrast`'s size) of the pixels a proposal of this kind and level is cut from.
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level);
 
+/// The part of that mask inside `band` (a rectangle of the frame): equal to the whole mask's part there when the
+/// band is salientBand's, which leaves out only rows the mask is empty in.
+cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level, const cv::Rect& band);
+
+/// The rows of the frame a cut at `level` can find anything in (those whose largest saliency of this kind
+/// exceeds it, with the opening's margin), across the whole width; empty when no row does. The whole frame
+/// when `contrast` carries no row maxima. Cutting only there skips half the frame's rows on a typical
+/// underwater frame (the pool scene: 49 %; TRANSDEC frames: 25 %).
+cv::Rect salientBand(const WaterContrast& contrast, SaliencyKind kind, double level);
+
 /// `mask` (CV_8UC1) grown by `radius` pixels in every direction: what cv::dilate with a square of side
 /// 2 radius + 1 gives (pixels beyond the edge take no part), without its set-up per call, which was most of
 /// its cost on a frame's ~300 small regions (describing a proposal's ring of water).

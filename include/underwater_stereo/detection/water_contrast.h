@@ -40,6 +40,7 @@ struct WaterContrast {
   cv::Mat water;        ///< CV_8UC3: the local water colour (B, G, R) per pixel
   cv::Mat contrast;     ///< CV_32FC3: log((I + o) / (B + o)) per channel
   cv::Mat saliency[2];  ///< CV_32FC1: |(x - median) / spread| over the channels, x = chromaOf(contrast) (kChroma) or contrast (kFull)
+  std::vector<float> row_max[2];  ///< the largest saliency of each row, per kind (where a cut can find anything)
   ContrastStats stats;
 };
 
