@@ -180,6 +180,8 @@ TEST(BlobProposals, CuttingOnlyTheSalientBandChangesNothing) {
     }
     std::cout << "object at " << centre << ": " << a.size() << " proposals, " << empty << " empty cuts, " << narrow
               << " cuts on fewer rows" << std::endl;
+    EXPECT_THROW(salientMask(contrast, SaliencyKind::kFull, 4, cv::Rect(0, 470, 640, 20)), std::invalid_argument);
+    EXPECT_THROW(salientMask(contrast, SaliencyKind::kFull, 4, cv::Rect()), std::invalid_argument);
   }
 }
 

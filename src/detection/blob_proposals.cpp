@@ -26,6 +26,14 @@ constexpr int kRingPx = 3;
 
 cv::Mat openKernel() { return cv::getStructuringElement(cv::MORPH_RECT, cv::Size(kOpenPx, kOpenPx)); }
 
+/// The pixels of `saliency` above `level`, opened (specks removed): 0/255.
+cv::Mat openedCut(const cv::Mat& saliency, double level) {
+  cv::Mat mask;
+  cv::compare(saliency, level, mask, cv::CMP_GT);
+  cv::morphologyEx(mask, mask, cv::MORPH_OPEN, openKernel());
+  return mask;
+}
+
 /// OpenCV's 8-bit HSV saturation (cvtColor COLOR_BGR2HSV): round(255 (max - min) / max), from the same table.
 int saturationOf(const cv::Vec3b& p) {
   static const std::array<int, 256> divide = [] {
@@ -176,14 +184,15 @@ std::vector<std::string> ProposalConfig::validate() const {
 }
 
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level) {
-  return salientMask(contrast, kind, level, cv::Rect(cv::Point(), contrast.saliency[static_cast<int>(kind)].size()));
+  return openedCut(contrast.saliency[static_cast<int>(kind)], level);
 }
 
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level, const cv::Rect& band) {
-  cv::Mat mask;
-  cv::compare(contrast.saliency[static_cast<int>(kind)](band), level, mask, cv::CMP_GT);
-  cv::morphologyEx(mask, mask, cv::MORPH_OPEN, openKernel());
-  return mask;
+  const cv::Mat& saliency = contrast.saliency[static_cast<int>(kind)];
+  if (band.empty() || (band & cv::Rect(cv::Point(), saliency.size())) != band) {
+    throw std::invalid_argument("salientMask: the band must be a non-empty part of the frame");
+  }
+  return openedCut(saliency(band), level);
 }
 
 cv::Rect salientBand(const WaterContrast& contrast, SaliencyKind kind, double level) {

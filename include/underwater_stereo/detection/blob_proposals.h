@@ -49,6 +49,7 @@ cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double lev
 
 /// The part of that mask inside `band` (a rectangle of the frame): equal to the whole mask's part there when the
 /// band is salientBand's, which leaves out only rows the mask is empty in.
+/// @throw std::invalid_argument when the band is empty or not inside the frame.
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level, const cv::Rect& band);
 
 /// The rows of the frame a cut at `level` can find anything in (those whose largest saliency of this kind
