@@ -55,7 +55,7 @@ cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double lev
 /// The rows of the frame a cut at `level` can find anything in (those whose largest saliency of this kind
 /// exceeds it, with the opening's margin), across the whole width; empty when no row does. The whole frame
 /// when `contrast` carries no row maxima. Cutting only there skips 51 % of the rows of the pool scene's frame
-/// and 25-30 % of randomised and TRANSDEC frames' rows (averaged over the 16 cuts).
+/// and 25-30 % of randomised and TRANSDEC frames' rows (averaged over the 8 cuts).
 cv::Rect salientBand(const WaterContrast& contrast, SaliencyKind kind, double level);
 
 /// `mask` (CV_8UC1) grown by `radius` pixels in every direction: what cv::dilate with a square of side
