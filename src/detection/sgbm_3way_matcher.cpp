@@ -262,7 +262,8 @@ class StripeMatcher {
     }
     const __m256i p1 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p1));
     const __m256i p2 = _mm256_set1_epi16(cv::saturate_cast<Cost>(p_.p2));
-    __m256i hv[kSlots], cost[kSlots], path[kSlots], next[kSlots], top[kSlots];
+    __m256i hv[kSlots] = {};  // set at x == 0 of every fresh row before use; zeroed so no compiler has to prove it
+    __m256i cost[kSlots], path[kSlots], next[kSlots], top[kSlots];
     for (int b = 0; b < nb; ++b) path[b] = _mm256_setzero_si256();  // the left path starts from 0 costs
     __m256i min_p2 = p2;
     for (int x = 0; x < w1_; ++x) {
