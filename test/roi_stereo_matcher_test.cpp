@@ -88,6 +88,38 @@ TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
   }
 }
 
+TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
+  // A candidate's mask can be one filled piece of the object (here its core) while the right mask holds all
+  // of it: their silhouettes do not align. Given the left frame's mask cut as the right one, they do.
+  const double depth = 2.0;
+  sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
+  ball.albedo = {0.85, 0.08, 0.06};
+  const sim::Renderer renderer(sim::test::smallScene(ball));
+  const sim::RenderedPair pair = renderer.render(0, 0);
+  cv::Mat left, right;
+  cv::cvtColor(pair.left, left, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(pair.right, right, cv::COLOR_BGR2GRAY);
+  auto redMask = [](const cv::Mat& bgr) {
+    cv::Mat channels[3], mask;
+    cv::split(bgr, channels);
+    cv::compare(channels[2], channels[0], mask, cv::CMP_GT);
+    return mask;
+  };
+  const cv::Mat left_mask = redMask(pair.left), right_mask = redMask(pair.right);
+  const cv::Rect roi = pair.ground_truth.at(0).roi_left;
+  cv::Mat core;
+  cv::erode(left_mask(roi), core, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(roi.width / 2 | 1, roi.width / 2 | 1)));
+  ASSERT_GT(cv::countNonZero(core), 0);
+  const RoiStereoMatcher matcher(renderer.calibration(), StereoMatchConfig{});
+  EXPECT_TRUE(std::isnan(matcher.match(left, right, roi, core, right_mask).silhouette_disparity));
+  const double d = ball.position_m.norm(), r = 0.15;
+  const double expected =
+      renderer.calibration().focalPx() * renderer.calibration().baselineM() / (depth * (1 - r * r / (d * d)));
+  EXPECT_NEAR(matcher.match(left, right, roi, core, right_mask, cv::Point(), left_mask(roi).clone()).silhouette_disparity,
+              expected, 0.25);
+  EXPECT_THROW(matcher.match(left, right, roi, core, right_mask, cv::Point(), cv::Mat(3, 3, CV_8UC1)), std::invalid_argument);
+}
+
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
   const GreyPair pair = texturedPanelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});

@@ -96,11 +96,12 @@ cv::Mat blurredForSearch(const cv::Mat& small, const DetectorConfig& search) {
   return blurred;
 }
 
-/// The right frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's
-/// saliency and level against the left frame's water and spread, so the two silhouettes are cut alike.
-cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
-                         const DetectorConfig& config, const DetectorConfig& search) {
-  const cv::Mat small = blurredForSearch(scaledDown(right, region, config.search_scale), search);
+/// A frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's saliency and
+/// level against the left frame's water and spread: for the right frame and the left alike, so the two
+/// silhouettes are cut alike.
+cv::Mat salientMaskOver(const RawFrame& frame, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
+                        const DetectorConfig& config, const DetectorConfig& search) {
+  const cv::Mat small = blurredForSearch(scaledDown(frame, region, config.search_scale), search);
   const double k = config.search_scale;
   const cv::Rect in_water = cv::Rect(static_cast<int>(std::lround(region.x * k)), static_cast<int>(std::lround(region.y * k)),
                                      small.cols, small.rows) & cv::Rect(cv::Point(), left.water.size());
@@ -301,12 +302,12 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           StageTimings& t, Rejection& rejected) const {
+                                           const cv::Mat& left_colour, StageTimings& t, Rejection& rejected) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
   rejected = Rejection{c.roi, colour.name, c.colour_fraction, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
-  const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin);
+  const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin, left_colour);
   stage.lapMs();
   t.rectify_ms += roi_points.rectify_ms;
   t.matching_ms += roi_points.matching_ms;
@@ -393,13 +394,21 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       Stopwatch colour;
       const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right.size());
       if (!region.empty()) {
-        right_colour = learned ? rightSalientMask(right, region, front, c, config_, search_config_)
+        right_colour = learned ? salientMaskOver(right, region, front, c, config_, search_config_)
                                : rightColourMask(right, region, front, config_, search_config_);
         origin = region.tl();
       }
       t.colour_ms = colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, t, rejected);
+    // The left silhouette cut pixel by pixel as the right one is (the candidate's own mask is one filled region).
+    cv::Mat left_colour;
+    if (learned && !right_colour.empty()) {
+      Stopwatch colour;
+      const cv::Rect region = colourSearchRegion(c.roi, config_, search_config_, left.size());
+      left_colour = salientMaskOver(left, region, front, c, config_, search_config_)(c.roi - region.tl()).clone();
+      t.colour_ms += colour.lapMs();
+    }
+    return measure(c, left, right, right_colour, origin, left_colour, t, rejected);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may

@@ -204,15 +204,17 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
 }
 
 RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
-                                  const cv::Mat& right_colour, const cv::Point& right_colour_origin) const {
-  checkMatchInputs(left, right, roi, mask, right_colour, right_colour_origin);
+                                  const cv::Mat& right_colour, const cv::Point& right_colour_origin,
+                                  const cv::Mat& left_colour) const {
+  checkMatchInputs(left, right, roi, mask, right_colour, right_colour_origin, left_colour);
   Stopwatch lap;
   const cv::Rect box = rectifiedBox(roi);
   RoiPoints out;
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
   // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
   if (!right_colour.empty()) {
-    out.silhouette_disparity = silhouetteDisparity(mask, roi, right_colour, right_colour_origin, box);
+    out.silhouette_disparity =
+        silhouetteDisparity(left_colour.empty() ? mask : left_colour, roi, right_colour, right_colour_origin, box);
     // Outside the workspace it is a wrong match (or an object nearer or farther): not trusted.
     if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   }
@@ -243,7 +245,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
 
 void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi,
                                         const cv::Mat& mask, const cv::Mat& right_colour,
-                                        const cv::Point& right_colour_origin) const {
+                                        const cv::Point& right_colour_origin, const cv::Mat& left_colour) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
   if (left.size() != size || right.size() != size) {
     throw std::invalid_argument("RoiStereoMatcher::match: left and right must be frames of the calibrated size " +
@@ -255,6 +257,9 @@ void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& ri
   const cv::Rect right_colour_rect(right_colour_origin, right_colour.size());
   if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || (right_colour_rect & cv::Rect(cv::Point(), size)) != right_colour_rect)) {
     throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 and lie in the image");
+  }
+  if (!left_colour.empty() && (left_colour.type() != CV_8UC1 || left_colour.size() != roi.size())) {
+    throw std::invalid_argument("RoiStereoMatcher::match: the left colour mask must be CV_8UC1 of the roi's size");
   }
 }
 

@@ -79,10 +79,10 @@ class Detector {
   const DetectorConfig& config() const { return config_; }
 
  private:
-  /// Stereo, clustering and shape of one candidate.
+  /// Stereo, clustering and shape of one candidate (the masks as RoiStereoMatcher::match takes them).
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
-                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin, StageTimings& t,
-                                   Rejection& rejected) const;
+                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin,
+                                   const cv::Mat& left_colour, StageTimings& t, Rejection& rejected) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)

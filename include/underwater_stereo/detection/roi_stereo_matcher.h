@@ -59,10 +59,14 @@ class RoiStereoMatcher {
   /// `left`/`right` are raw (distorted) frames of the calibrated size (only the pixels the bands read are
   /// converted to grey). `right_colour` (optional: empty to skip) is the raw right
   /// frame's mask of the designated colours, for the silhouette disparity: the whole frame, or a part of it
-  /// at `right_colour_origin` holding at least rightColourRegion(roi).
+  /// at `right_colour_origin` holding at least rightColourRegion(roi). `left_colour` (optional, CV_8UC1 the
+  /// size of `roi`): the left frame's mask cut as `right_colour` was, read for the left silhouette instead of
+  /// `mask` (a candidate's mask is one filled region; the right one is cut pixel by pixel: alike, the two
+  /// silhouettes align).
   /// @throw std::invalid_argument on wrong types or sizes, or an roi or right_colour outside the image.
   RoiPoints match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
-                  const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point()) const;
+                  const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point(),
+                  const cv::Mat& left_colour = cv::Mat()) const;
 
   /// The part of the raw right frame whose colour mask the silhouette disparity of `roi` reads (empty when
   /// the object's right view cannot be in the image).
@@ -90,7 +94,7 @@ class RoiStereoMatcher {
 
   /// @throw std::invalid_argument as match() says.
   void checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
-                        const cv::Mat& right_colour, const cv::Point& right_colour_origin) const;
+                        const cv::Mat& right_colour, const cv::Point& right_colour_origin, const cv::Mat& left_colour) const;
   /// Around a finite silhouette disparity by the expected relief of an object of rectified box `box`; else
   /// the whole workspace.
   DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
