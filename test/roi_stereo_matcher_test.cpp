@@ -35,6 +35,40 @@ GreyPair texturedPanelAt(double depth) {
   return out;
 }
 
+/// A uniformly coloured red ball (no texture for block matching) on bluish water, 0.3 m across, `depth` ahead:
+/// its grey views, both colour masks as the detector makes them, its roi and the outline's expected disparity
+/// (the tangent circle R^2 / d in front of its centre).
+struct RedBall {
+  cv::Mat left, right, left_mask, right_mask;
+  cv::Rect roi;
+  StereoCalibration calibration;
+  double outline_disparity = 0;
+};
+
+cv::Mat redMask(const cv::Mat& bgr) {
+  cv::Mat channels[3], mask;
+  cv::split(bgr, channels);
+  cv::compare(channels[2], channels[0], mask, cv::CMP_GT);
+  return mask;
+}
+
+RedBall redBallAt(double depth) {
+  sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
+  ball.albedo = {0.85, 0.08, 0.06};
+  const sim::Renderer renderer(sim::test::smallScene(ball));
+  const sim::RenderedPair pair = renderer.render(0, 0);
+  RedBall out;
+  cv::cvtColor(pair.left, out.left, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(pair.right, out.right, cv::COLOR_BGR2GRAY);
+  out.left_mask = redMask(pair.left);
+  out.right_mask = redMask(pair.right);
+  out.roi = pair.ground_truth.at(0).roi_left;
+  out.calibration = renderer.calibration();
+  const double d = ball.position_m.norm(), r = 0.15;
+  out.outline_disparity = out.calibration.focalPx() * out.calibration.baselineM() / (depth * (1 - r * r / (d * d)));
+  return out;
+}
+
 }  // namespace
 
 TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
@@ -51,39 +85,21 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
 }
 
 TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
-  // A uniformly coloured sphere (no texture for block matching): its colour mask's shift between the
-  // rectified views is the disparity of its outline, the tangent circle R^2 / d in front of its centre.
+  // The colour mask's shift between the rectified views of a plain ball is the disparity of its outline.
   for (const double depth : {1.5, 3.0}) {
-    sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
-    ball.albedo = {0.85, 0.08, 0.06};
-    const sim::Renderer renderer(sim::test::smallScene(ball));
-    const sim::RenderedPair pair = renderer.render(0, 0);
-    cv::Mat left, right, left_mask, right_mask;
-    cv::cvtColor(pair.left, left, cv::COLOR_BGR2GRAY);
-    cv::cvtColor(pair.right, right, cv::COLOR_BGR2GRAY);
-    // Both masks from colour, as the detector makes them (a red ball on bluish water).
-    auto redMask = [](const cv::Mat& bgr) {
-      cv::Mat channels[3], mask;
-      cv::split(bgr, channels);
-      cv::compare(channels[2], channels[0], mask, cv::CMP_GT);
-      return mask;
-    };
-    left_mask = redMask(pair.left);
-    right_mask = redMask(pair.right);
-    const cv::Rect roi = pair.ground_truth.at(0).roi_left;
-    const RoiStereoMatcher matcher(renderer.calibration(), StereoMatchConfig{});
-    const RoiPoints pts = matcher.match(left, right, roi, left_mask(roi), right_mask);
-    const double d = ball.position_m.norm(), r = 0.15;
-    const double tangent_z = depth * (1 - r * r / (d * d));
-    const double expected = renderer.calibration().focalPx() * renderer.calibration().baselineM() / tangent_z;
-    EXPECT_NEAR(pts.silhouette_disparity, expected, 0.25) << "at " << depth << " m";
+    const RedBall ball = redBallAt(depth);
+    const cv::Rect roi = ball.roi;
+    const RoiStereoMatcher matcher(ball.calibration, StereoMatchConfig{});
+    const RoiPoints pts = matcher.match(ball.left, ball.right, roi, ball.left_mask(roi), ball.right_mask);
+    EXPECT_NEAR(pts.silhouette_disparity, ball.outline_disparity, 0.25) << "at " << depth << " m";
     // Only the part of the right mask the silhouette reads, at its place: the same disparity.
     const cv::Rect region = matcher.rightColourRegion(roi);
     ASSERT_FALSE(region.empty());
-    EXPECT_LT(region.area(), right_mask.total() / 2);
-    const RoiPoints part = matcher.match(left, right, roi, left_mask(roi), right_mask(region).clone(), region.tl());
+    EXPECT_LT(region.area(), ball.right_mask.total() / 2);
+    const RoiPoints part =
+        matcher.match(ball.left, ball.right, roi, ball.left_mask(roi), ball.right_mask(region).clone(), region.tl());
     EXPECT_DOUBLE_EQ(part.silhouette_disparity, pts.silhouette_disparity);
-    const RoiPoints without = matcher.match(left, right, roi, left_mask(roi));
+    const RoiPoints without = matcher.match(ball.left, ball.right, roi, ball.left_mask(roi));
     EXPECT_TRUE(std::isnan(without.silhouette_disparity));
   }
 }
@@ -91,33 +107,19 @@ TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
 TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
   // A candidate's mask can be one filled piece of the object (here its core) while the right mask holds all
   // of it: their silhouettes do not align. Given the left frame's mask cut as the right one, they do.
-  const double depth = 2.0;
-  sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
-  ball.albedo = {0.85, 0.08, 0.06};
-  const sim::Renderer renderer(sim::test::smallScene(ball));
-  const sim::RenderedPair pair = renderer.render(0, 0);
-  cv::Mat left, right;
-  cv::cvtColor(pair.left, left, cv::COLOR_BGR2GRAY);
-  cv::cvtColor(pair.right, right, cv::COLOR_BGR2GRAY);
-  auto redMask = [](const cv::Mat& bgr) {
-    cv::Mat channels[3], mask;
-    cv::split(bgr, channels);
-    cv::compare(channels[2], channels[0], mask, cv::CMP_GT);
-    return mask;
-  };
-  const cv::Mat left_mask = redMask(pair.left), right_mask = redMask(pair.right);
-  const cv::Rect roi = pair.ground_truth.at(0).roi_left;
+  const RedBall ball = redBallAt(2.0);
+  const cv::Rect roi = ball.roi;
   cv::Mat core;
-  cv::erode(left_mask(roi), core, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(roi.width / 2 | 1, roi.width / 2 | 1)));
+  cv::erode(ball.left_mask(roi), core,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(roi.width / 2 | 1, roi.width / 2 | 1)));
   ASSERT_GT(cv::countNonZero(core), 0);
-  const RoiStereoMatcher matcher(renderer.calibration(), StereoMatchConfig{});
-  EXPECT_TRUE(std::isnan(matcher.match(left, right, roi, core, right_mask).silhouette_disparity));
-  const double d = ball.position_m.norm(), r = 0.15;
-  const double expected =
-      renderer.calibration().focalPx() * renderer.calibration().baselineM() / (depth * (1 - r * r / (d * d)));
-  EXPECT_NEAR(matcher.match(left, right, roi, core, right_mask, cv::Point(), left_mask(roi).clone()).silhouette_disparity,
-              expected, 0.25);
-  EXPECT_THROW(matcher.match(left, right, roi, core, right_mask, cv::Point(), cv::Mat(3, 3, CV_8UC1)), std::invalid_argument);
+  const RoiStereoMatcher matcher(ball.calibration, StereoMatchConfig{});
+  EXPECT_TRUE(std::isnan(matcher.match(ball.left, ball.right, roi, core, ball.right_mask).silhouette_disparity));
+  const cv::Mat left_colour = ball.left_mask(roi).clone();
+  EXPECT_NEAR(matcher.match(ball.left, ball.right, roi, core, ball.right_mask, cv::Point(), left_colour).silhouette_disparity,
+              ball.outline_disparity, 0.25);
+  EXPECT_THROW(matcher.match(ball.left, ball.right, roi, core, ball.right_mask, cv::Point(), cv::Mat(3, 3, CV_8UC1)),
+               std::invalid_argument);
 }
 
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
