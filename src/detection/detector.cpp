@@ -36,8 +36,7 @@ struct FrontEnd {
   cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
   cv::Scalar gains{1.0, 1.0, 1.0};  ///< the grey-world gains it was balanced with (1: grey_world off)
   int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
-  cv::Mat water;                     ///< learned source: the searched image's water colour
-  ContrastStats contrast_stats;      ///< learned source: its spread of contrast
+  WaterContrast contrast;            ///< learned source: the searched image's water, contrast, spread and saliency
   std::vector<Candidate> candidates;
   std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
 };
@@ -96,27 +95,46 @@ cv::Mat blurredForSearch(const cv::Mat& small, const DetectorConfig& search) {
   return blurred;
 }
 
-/// A frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's saliency and
-/// level against the left frame's water and spread: for the right frame and the left alike, so the two
-/// silhouettes are cut alike.
-cv::Mat salientMaskOver(const RawFrame& frame, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
-                        const DetectorConfig& config, const DetectorConfig& search) {
-  const cv::Mat small = blurredForSearch(scaledDown(frame, region, config.search_scale), search);
-  const double k = config.search_scale;
-  const cv::Rect in_water = cv::Rect(static_cast<int>(std::lround(region.x * k)), static_cast<int>(std::lround(region.y * k)),
-                                     small.cols, small.rows) & cv::Rect(cv::Point(), left.water.size());
-  cv::Mat water;
-  if (in_water.size() == small.size()) {
-    water = left.water(in_water);
-  } else {
-    cv::resize(left.water(in_water), water, small.size(), 0, 0, cv::INTER_LINEAR);
-  }
-  const WaterContrast contrast = contrastAgainst(small, water, left.contrast_stats, config.learned.water);
-  const cv::Mat mask = salientMask(contrast, c.saliency_kind, c.saliency_level);
-  if (config.search_scale >= 1.0) return mask;
+/// A searched-scale mask over `region` at full resolution (soft edges).
+cv::Mat atFullResolution(const cv::Mat& mask, const cv::Rect& region, double search_scale) {
+  if (search_scale >= 1.0) return mask;
   cv::Mat full;
   cv::resize(mask, full, region.size(), 0, 0, cv::INTER_LINEAR);
   return full;
+}
+
+/// The right frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's
+/// saliency and level against the left frame's water and spread, as the left frame's are (leftSalientMask).
+cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
+                         const DetectorConfig& config, const DetectorConfig& search) {
+  const cv::Mat small = blurredForSearch(scaledDown(right, region, config.search_scale), search);
+  const double k = config.search_scale;
+  const cv::Mat& left_water = left.contrast.water;
+  const cv::Rect in_water = cv::Rect(static_cast<int>(std::lround(region.x * k)), static_cast<int>(std::lround(region.y * k)),
+                                     small.cols, small.rows) & cv::Rect(cv::Point(), left_water.size());
+  cv::Mat water;
+  if (in_water.size() == small.size()) {
+    water = left_water(in_water);
+  } else {
+    cv::resize(left_water(in_water), water, small.size(), 0, 0, cv::INTER_LINEAR);
+  }
+  const WaterContrast contrast = contrastAgainst(small, water, left.contrast.stats, config.learned.water);
+  return atFullResolution(salientMask(contrast, c.saliency_kind, c.saliency_level), region, config.search_scale);
+}
+
+/// The left frame's salient pixels over the candidate's roi (full resolution, soft edges), cut at its saliency
+/// and level from the saliency the search computed: pixel by pixel, as the right frame's are (the candidate's
+/// own mask is one filled region). `region`: colourSearchRegion of the roi, so the cut inside it is the
+/// whole frame's.
+cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect& region, double search_scale) {
+  const cv::Size searched = left.contrast.water.size();
+  const cv::Rect band = cv::Rect(static_cast<int>(std::lround(region.x * search_scale)),
+                                 static_cast<int>(std::lround(region.y * search_scale)),
+                                 static_cast<int>(std::lround(region.width * search_scale)),
+                                 static_cast<int>(std::lround(region.height * search_scale))) &
+                        cv::Rect(cv::Point(), searched);
+  const cv::Mat mask = salientMask(left.contrast, c.saliency_kind, c.saliency_level, band);
+  return atFullResolution(mask, region, search_scale)(c.roi - region.tl()).clone();
 }
 
 /// `region` grown by what the colour search's blur and morphology reach (so the mask inside it is the
@@ -195,8 +213,7 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     LearnedSearch found =
         findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates, config.pair_threads);
     t.colour_ms = watch.lapMs();
-    out.water = found.contrast.water;
-    out.contrast_stats = found.contrast.stats;
+    out.contrast = std::move(found.contrast);
     for (Candidate& c : found.candidates) {
       out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, frame.size()));
     }
@@ -394,18 +411,17 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       Stopwatch colour;
       const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right.size());
       if (!region.empty()) {
-        right_colour = learned ? salientMaskOver(right, region, front, c, config_, search_config_)
+        right_colour = learned ? rightSalientMask(right, region, front, c, config_, search_config_)
                                : rightColourMask(right, region, front, config_, search_config_);
         origin = region.tl();
       }
       t.colour_ms = colour.lapMs();
     }
-    // The left silhouette cut pixel by pixel as the right one is (the candidate's own mask is one filled region).
     cv::Mat left_colour;
     if (learned && !right_colour.empty()) {
       Stopwatch colour;
-      const cv::Rect region = colourSearchRegion(c.roi, config_, search_config_, left.size());
-      left_colour = salientMaskOver(left, region, front, c, config_, search_config_)(c.roi - region.tl()).clone();
+      left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, config_, search_config_, left.size()),
+                                    config_.search_scale);
       t.colour_ms += colour.lapMs();
     }
     return measure(c, left, right, right_colour, origin, left_colour, t, rejected);
