@@ -133,7 +133,7 @@ TEST_F(DetectFiles, ExplainListsWhatWasLookedAtAndNotReportedWithWhy) {
   for (const auto& l : explained.lines) {
     if (l.find("\"rejected\"") == std::string::npos) continue;
     ++rejected;
-    EXPECT_NE(l.find("\"reason\": \"colour confidence"), std::string::npos) << l;
+    EXPECT_NE(l.find("\"stage\": \"colour uncertain\", \"reason\": \"colour confidence"), std::string::npos) << l;
   }
   EXPECT_GT(rejected, 0);
   for (const auto& l : run(args).lines) EXPECT_EQ(l.find("\"rejected\""), std::string::npos) << "only with --explain";

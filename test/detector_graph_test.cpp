@@ -14,6 +14,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
+#include <cctype>
 #include <map>
 #include <mutex>
 
@@ -268,6 +269,11 @@ TEST_F(HandFedDetector, BurstOfPairsIsPublishedInArrivalOrderByParallelWorkers) 
                        << ", bad " << bad << ", published " << listener.arrival.size();
   std::cout << "received " << received << ", processed " << processed << ", dropped " << dropped << std::endl;
   EXPECT_EQ(bad, "0");
+  for (int k = 0; k < kRejectionStageCount; ++k) {  // what the detector looked at and did not report, by stage
+    const std::string key = "regions rejected: " + rejectionStageName(static_cast<RejectionStage>(k));
+    const std::string count = diagnosticValue(listener.diagnostics.back(), key);
+    EXPECT_TRUE(!count.empty() && std::all_of(count.begin(), count.end(), ::isdigit)) << key << ": '" << count << "'";
+  }
   ASSERT_GE(listener.arrival.size(), 4U) << "too few pairs were processed to see their order";
   for (std::size_t k = 1; k < listener.arrival.size(); ++k) {
     EXPECT_LT(listener.arrival[k - 1], listener.arrival[k]) << "results published out of order at " << k;

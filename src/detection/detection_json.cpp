@@ -80,7 +80,8 @@ std::string emptyFrameJson(const std::string& file, const QualityReport& quality
 std::string rejectionJson(const std::string& file, const Rejection& r) {
   return "{\"file\": " + quoted(file) + ", \"rejected\": {\"colour\": " + quoted(r.colour) + ", \"roi\": " +
          array({double(r.roi.x), double(r.roi.y), double(r.roi.width), double(r.roi.height)}) +
-         ", \"confidence\": " + number(r.confidence) + ", \"reason\": " + quoted(r.reason) + "}}";
+         ", \"confidence\": " + number(r.confidence) + ", \"stage\": " + quoted(rejectionStageName(r.stage)) +
+         ", \"reason\": " + quoted(r.reason) + "}}";
 }
 
 }  // namespace underwater_stereo

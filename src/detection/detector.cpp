@@ -192,7 +192,7 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];
       why[k] = Rejection{found[k]->roi, found[k]->colour, candidates[k].colour_fraction,
-                         "a piece of the object at " + std::to_string(joined->range_m) + " m reported whole"};
+                         RejectionStage::kPieceOfObject, "a piece of the object at " + std::to_string(joined->range_m) + " m reported whole"};
       found[k].reset();
     }
     found[first] = std::move(joined);
@@ -321,7 +321,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
                                            const cv::Mat& left_colour, StageTimings& t, Rejection& rejected) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
-  rejected = Rejection{c.roi, colour.name, c.colour_fraction, ""};
+  rejected = Rejection{c.roi, colour.name, c.colour_fraction, RejectionStage::kTooFewPoints, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
   const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin, left_colour);
@@ -344,11 +344,13 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());
   t.fit_ms += stage.lapMs();
   if (!fit.centre.allFinite() || !fit.size.allFinite()) {  // never report NaN
+    rejected.stage = RejectionStage::kNoFit;
     rejected.reason = "shape fit gave no finite position or size";
     return std::nullopt;
   }
   const double extent = fit.size.maxCoeff();
   if ((colour.min_size_m > 0 && extent < colour.min_size_m) || (colour.max_size_m > 0 && extent > colour.max_size_m)) {
+    rejected.stage = RejectionStage::kWrongSize;
     rejected.reason = "size " + std::to_string(extent) + " m outside [" + std::to_string(colour.min_size_m) + ", " +
                       std::to_string(colour.max_size_m) + "] m configured for " + colour.name;
     return std::nullopt;

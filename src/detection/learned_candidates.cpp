@@ -74,6 +74,19 @@ std::string formatted(const char* format, double a, double b) {
 
 }  // namespace
 
+std::string rejectionStageName(RejectionStage stage) {
+  switch (stage) {
+    case RejectionStage::kColourNotDesignated: return "colour not designated";
+    case RejectionStage::kColourUncertain: return "colour uncertain";
+    case RejectionStage::kTooManyCandidates: return "too many candidates";
+    case RejectionStage::kTooFewPoints: return "too few 3D points";
+    case RejectionStage::kNoFit: return "no shape fit";
+    case RejectionStage::kWrongSize: return "wrong size";
+    case RejectionStage::kPieceOfObject: return "piece of an object";
+  }
+  return "?";
+}
+
 double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
   const double inter = (a & b).area();
   return inter / std::max(1, std::min(a.area(), b.area()));
@@ -131,9 +144,10 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     if (v.colour < 0 || v.confidence < kExplainShare * needed[v.colour]) continue;
     const std::string colour = config.model->colours()[v.colour];
     if (designated[v.colour] < 0) {
-      out.rejected.push_back({b.roi, colour, v.confidence, "colour not designated in this configuration"});
+      out.rejected.push_back({b.roi, colour, v.confidence, RejectionStage::kColourNotDesignated,
+                              "colour not designated in this configuration"});
     } else if (v.confidence < needed[v.colour]) {
-      out.rejected.push_back({b.roi, colour, v.confidence,
+      out.rejected.push_back({b.roi, colour, v.confidence, RejectionStage::kColourUncertain,
                               formatted("colour confidence %.2f under its min_confidence %.2f", v.confidence,
                                         needed[v.colour])});
     } else {
@@ -149,7 +163,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     if (same_object) continue;  // a weaker view of an object already taken: not a rejection
     if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {
       out.rejected.push_back({n.proposal.roi, config.model->colours()[n.verdict.colour], n.verdict.confidence,
-                              "more than candidates.max_candidates"});
+                              RejectionStage::kTooManyCandidates, "more than candidates.max_candidates"});
       continue;
     }
     cutAtItsEdge(out.contrast, n.proposal);

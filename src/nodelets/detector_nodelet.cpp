@@ -23,6 +23,7 @@
 
 #include <boost/bind/bind.hpp>
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -339,6 +340,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     }
     ++processed_;
     std::lock_guard<std::mutex> lock(stats_mutex_);
+    for (const Rejection& r : result.rejected) ++rejected_by_stage_[static_cast<int>(r.stage)];
     last_quality_ = result.quality;
     last_processing_ms_ = (ros::WallTime::now() - done.start).toSec() * 1000.0;
     max_processing_ms_ = std::max(max_processing_ms_, last_processing_ms_);
@@ -393,6 +395,9 @@ class DetectorNodelet : public nodelet::Nodelet {
     stat.add("max processing time [ms]", max_processing_ms_);
     stat.add("quality", qualityStatusName(last_quality_.status));
     stat.add("mean brightness", last_quality_.mean_brightness);
+    for (int k = 0; k < kRejectionStageCount; ++k) {
+      stat.add("regions rejected: " + rejectionStageName(static_cast<RejectionStage>(k)), rejected_by_stage_[k]);
+    }
   }
 
   static constexpr double kErrorHoldS = 5.0;  ///< a bad pair keeps the diagnostic at ERROR this long
@@ -443,6 +448,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   ros::WallTime last_error_time_, last_diagnosis_;
   long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
+  std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
 };
 

@@ -30,7 +30,7 @@ const char* kUsage =
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments\n"
     "  --config        detector configuration (default: the package's config/detector.yaml)\n"
     "  --explain       also one line per region looked at and not reported, with why: {\"file\", \"rejected\":\n"
-    "                  {\"colour\", \"roi\", \"confidence\", \"reason\"}}\n"
+    "                  {\"colour\", \"roi\", \"confidence\", \"stage\", \"reason\"}}\n"
     "Prints one JSON object per line per detection (DetectedObject field names plus the frame's quality),\n"
     "or one line with \"id\": null for a frame without detections; each frame's lines are written as soon as\n"
     "it is done. Unreadable, truncated or corrupt images, and images whose size the detector cannot take\n"

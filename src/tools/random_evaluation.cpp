@@ -141,6 +141,15 @@ double severity(const ObjectRecord& o) {
 
 }  // namespace
 
+const std::vector<std::string>& missCauseNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> all{"no votes"};
+    for (int s = 0; s < kRejectionStageCount; ++s) all.push_back(rejectionStageName(static_cast<RejectionStage>(s)));
+    return all;
+  }();
+  return names;
+}
+
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma) {
   PairRecord rec;
@@ -173,8 +182,9 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
                  gt.range_m <= kMaxRangeM;
     rec.objects.push_back(o);
   }
-  for (const Detection& d : result.objects) {
-    const cv::Rect box = d.roi & cv::Rect(cv::Point(), size);
+  // The object with most of its truth pixels in `roi` (at least 20 % of the smaller of box and object), or -1.
+  auto objectUnder = [&](const cv::Rect& roi) {
+    const cv::Rect box = roi & cv::Rect(cv::Point(), size);
     std::vector<int> counts(rec.objects.size(), 0);
     for (int v = box.y; v < box.br().y; ++v) {
       const auto* row = pair.left_labels.ptr<std::uint16_t>(v);
@@ -187,6 +197,10 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
       const double needed = 0.2 * std::min<double>(box.area(), rec.objects[k].visible_pixels);
       if (counts[k] > 0 && counts[k] >= needed && (best < 0 || counts[k] > counts[best])) best = static_cast<int>(k);
     }
+    return best;
+  };
+  for (const Detection& d : result.objects) {
+    const int best = objectUnder(d.roi);
     if (best >= 0 && rec.objects[best].designated && !rec.objects[best].found) {
       // The first detection of a designated object; one of an object too small, near or far is no false one.
       ObjectRecord& o = rec.objects[best];
@@ -202,6 +216,17 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
       continue;
     }
     rec.false_detections.push_back({d.colour, d.shape, best >= 0 ? rec.objects[best].name : "", d.roi, d.range_m});
+  }
+  // A missed object's cause: the latest stage that turned down a region on it.
+  std::vector<int> latest(rec.objects.size(), -1);
+  for (const Rejection& r : result.rejected) {
+    const int k = objectUnder(r.roi);
+    if (k >= 0) latest[k] = std::max(latest[k], static_cast<int>(r.stage));
+  }
+  for (std::size_t k = 0; k < rec.objects.size(); ++k) {
+    ObjectRecord& o = rec.objects[k];
+    if (!o.eligible || o.found) continue;
+    o.miss_cause = latest[k] < 0 ? missCauseNames().front() : rejectionStageName(static_cast<RejectionStage>(latest[k]));
   }
   return rec;
 }
@@ -230,6 +255,17 @@ void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
                                                                     : "a " + on->colour + " distractor"]++;
     }
   }
+  std::map<std::string, int> causes;
+  for (const auto& p : pairs) {
+    for (const auto& o : p.objects) {
+      if (!o.miss_cause.empty()) causes[o.miss_cause]++;
+    }
+  }
+  out << "Missed (the last stage that turned a region on it down):" << (causes.empty() ? " none" : "");
+  for (const std::string& cause : missCauseNames()) {
+    if (causes.count(cause)) out << " " << cause << " " << causes[cause] << ";";
+  }
+  out << "\n";
   out << "False detections on:" << (falses.empty() ? " none" : "");
   for (const auto& [what, n] : falses) out << " " << what << " " << n << ";";
   out << "\n";
@@ -255,6 +291,7 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
           << ", \"roi\": " << rect(o.roi) << ", \"albedo\": " << vec(o.albedo) << ", \"size_m\": " << vec(o.size_m)
           << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
           << ", \"found\": " << (o.found ? "true" : "false");
+      if (!o.miss_cause.empty()) out << ", \"miss_cause\": " << quoted(o.miss_cause);
       if (o.found) {
         out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour)
             << ", \"shape\": " << quoted(shapeName(o.detected_shape))

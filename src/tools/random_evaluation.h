@@ -42,6 +42,8 @@ struct ObjectRecord {
   double range_error = 0.0;         ///< |range - true| / true range (found only)
   double position_error = 0.0;      ///< |centre - true centre| / true range (found only)
   std::vector<float> detected_shape_features;  ///< Detection::shape_features (what learn-shapes trains on)
+  /// Of a missed eligible object, the last stage that lost it (missCauseNames()).
+  std::string miss_cause;
 };
 
 /// A detection that is no eligible designated object (background, a distractor, a second detection of one object).
@@ -63,10 +65,18 @@ struct PairRecord {
   std::vector<FalseRecord> false_detections;
 };
 
+/// Why a missed object was missed, from the detector's rejections on it, latest stage first: rejected after
+/// stereo ("too few 3D points", "size outside its colour's range", "shape fit failed"), left out of the
+/// candidates ("more than max_candidates"), votes for a designated colour under its min_confidence ("colour
+/// votes under the threshold"), named a colour not designated here; "no votes": no region on it got even half the
+/// votes a colour needs (or none was proposed).
+const std::vector<std::string>& missCauseNames();
+
 /// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the
 /// detection's box (at least 20 % of the smaller of box and object); the first detection of an object counts,
 /// others and those on no eligible object are false, those on designated objects that are not eligible (too
-/// small, too near or far) are neither. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
+/// small, too near or far) are neither. A missed eligible object gets its miss_cause from the rejections matched
+/// to it by the same rule. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
 

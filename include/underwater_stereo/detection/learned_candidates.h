@@ -33,12 +33,28 @@ struct LearnedColourConfig {
 /// Intersection over the smaller box's area: above colour_model.max_overlap two regions are one object.
 double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b);
 
+/// The stage that turned a region down, in the order of the pipeline.
+enum class RejectionStage {
+  kColourNotDesignated,  ///< the model names a colour this configuration does not designate
+  kColourUncertain,      ///< its colour's votes under that colour's min_confidence
+  kTooManyCandidates,    ///< beyond candidates.max_candidates
+  kTooFewPoints,         ///< too few 3D points in its main cluster
+  kNoFit,                ///< the shape fit gave no finite position or size
+  kWrongSize,            ///< metric size outside its colour's configured range
+  kPieceOfObject,        ///< measured again as part of a larger detection of its colour
+};
+constexpr int kRejectionStageCount = 7;
+
+/// Short name of a stage ("colour uncertain", "too few 3D points"...).
+std::string rejectionStageName(RejectionStage stage);
+
 /// A region the detector looked at and did not report, with why (detect_files --explain, diagnostics).
 struct Rejection {
   cv::Rect roi;          ///< raw image pixels
   std::string colour;    ///< the colour it was taken for (empty: none)
   double confidence = 0;
-  std::string reason;
+  RejectionStage stage = RejectionStage::kColourUncertain;
+  std::string reason;    ///< the stage's particulars, for a person
 };
 
 struct LearnedSearch {
