@@ -84,6 +84,22 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
   EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
 }
 
+TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedOverTheWholeWorkspace) {
+  // Without a silhouette block matching searches every workspace disparity, more than such an object has
+  // columns on its left: its pixels are matched all the same wherever the right camera sees them.
+  const GreyPair pair = texturedPanelAt(2.0);
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const double disparity = pair.calibration.focalPx() * pair.calibration.baselineM() / 2.0;
+  const cv::Rect roi(static_cast<int>(disparity) + 30, 180, 60, 50);
+  const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
+  EXPECT_GT(pts.matched_pixels, 0.9 * pts.mask_pixels);
+  ASSERT_GT(pts.points.size(), 500U);
+  std::vector<float> z;
+  for (const auto& p : pts.points) z.push_back(p.z());
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
+}
+
 TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
   // The colour mask's shift between the rectified views of a plain ball is the disparity of its outline.
   for (const double depth : {1.5, 3.0}) {

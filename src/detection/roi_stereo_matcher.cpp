@@ -154,12 +154,16 @@ cv::Rect sourceRegion(const cv::Mat& map_xy, const cv::Size& frame) {
   return cv::Rect(cv::Point(x0, y0), cv::Point(x1 + 2, y1 + 2)) & cv::Rect(cv::Point(), frame);
 }
 
-/// `band` of a raw frame rectified through the maps, as grey: only the raw pixels it reads are converted.
+/// `band` of a raw frame rectified through the maps, as grey: only the raw pixels it reads are converted. Columns
+/// of `band` left of the image (x < 0) repeat its first column (block matching needs its whole disparity range
+/// left of every matched pixel).
 cv::Mat rectifiedGrey(const RawFrame& frame, const cv::Mat& map_xy, const cv::Mat& map_fraction, const cv::Rect& band) {
-  const cv::Rect source = sourceRegion(map_xy(band), frame.size());
+  const cv::Rect inside = band & cv::Rect(cv::Point(), map_xy.size());
+  const cv::Rect source = inside.empty() ? cv::Rect() : sourceRegion(map_xy(inside), frame.size());
   if (source.empty()) return cv::Mat::zeros(band.size(), CV_8UC1);
   cv::Mat out;
-  remapBand(frame.grey(source), out, map_xy(band), map_fraction(band), source.tl(), cv::INTER_LINEAR);
+  remapBand(frame.grey(source), out, map_xy(inside), map_fraction(inside), source.tl(), cv::INTER_LINEAR);
+  if (inside.x > band.x) cv::copyMakeBorder(out, out, 0, 0, inside.x - band.x, 0, cv::BORDER_REPLICATE);
   return out;
 }
 
@@ -219,7 +223,10 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   }
   const MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
-  if (band.num_disparities < kDisparityStep || band.left.height < config_.block_size) {
+  const cv::Rect left_inside = band.left & cv::Rect(cv::Point(), left_map_xy_.size());
+  // Nothing to match: a box beyond the image (a far-fetched calibration), or too short for a block.
+  if (band.num_disparities < kDisparityStep || band.left.height < config_.block_size || left_inside.empty() ||
+      band.left.width <= band.num_disparities + config_.block_size) {
     out.rectify_ms = lap.lapMs();
     return out;
   }
@@ -227,7 +234,10 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   const cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band.left);
   const cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, band.right);
   cv::Mat mask_band;
-  remapBand(mask, mask_band, left_map_xy_(band.left), left_map_fraction_(band.left), roi.tl(), cv::INTER_NEAREST);
+  remapBand(mask, mask_band, left_map_xy_(left_inside), left_map_fraction_(left_inside), roi.tl(), cv::INTER_NEAREST);
+  if (left_inside.x > band.left.x) {
+    cv::copyMakeBorder(mask_band, mask_band, 0, 0, left_inside.x - band.left.x, 0, cv::BORDER_CONSTANT, 0);
+  }
   if (config_.erode_px > 0) {
     cv::erode(mask_band, mask_band,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
@@ -275,18 +285,18 @@ RoiStereoMatcher::DisparityWindow RoiStereoMatcher::disparityWindow(double silho
 RoiStereoMatcher::MatchBand RoiStereoMatcher::matchBand(const DisparityWindow& window, const cv::Rect& box) const {
   const cv::Size size(calibration_.left.width, calibration_.left.height);
   // Left band: the box plus margin, widened to the left by the window so every object pixel has its whole
-  // search range. Right band: the same rectangle moved left by the window's start, so block matching runs
-  // with disparities 0..num-1 (true disparity = that + min_disparity) over a band min_disparity narrower.
+  // search range (block matching leaves a band's first num_disparities columns unmatched). Right band: the
+  // same rectangle moved left by the window's start, so block matching runs with disparities 0..num-1 (true
+  // disparity = that + min_disparity). Near the image's left edge both may reach beyond it (padded): an object
+  // there is still matched wherever the right camera sees it.
   MatchBand band;
   band.min_disparity = window.min;
-  band.left = cv::Rect(box.x - config_.margin_px - window.num, box.y - config_.margin_px,
-                       box.width + 2 * config_.margin_px + window.num, box.height + 2 * config_.margin_px) &
-              cv::Rect(window.min, 0, size.width - window.min, size.height);
+  band.num_disparities = window.num;
+  const int x0 = box.x - config_.margin_px - window.num, y0 = std::max(0, box.y - config_.margin_px);
+  const int x1 = std::min(size.width, box.br().x + config_.margin_px),
+            y1 = std::min(size.height, box.br().y + config_.margin_px);
+  band.left = cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
   band.right = band.left - cv::Point(window.min, 0);
-  // Near the left edge the band is clipped: only disparities that fit in it can be searched (the matcher needs
-  // the band wider than its disparities plus its block), in whole steps.
-  const int fitting = std::max(0, band.left.width - config_.block_size - 1);
-  band.num_disparities = std::min(window.num, (fitting / kDisparityStep) * kDisparityStep);
   return band;
 }
 
@@ -313,6 +323,7 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
     for (int u = 0; u < mask_band.cols; ++u) {
       if (!m[u] || d[u] < 0) continue;  // SGBM marks unmatched pixels with -16
       const double disparity = d[u] / static_cast<double>(cv::StereoMatcher::DISP_SCALE) + band.min_disparity;
+      if (u + band.left.x - disparity < 0) continue;  // matched into the padding left of the right image
       const double z = f * baseline / disparity;
       if (z < config_.min_depth_m || z > config_.max_depth_m) continue;
       ++out.matched_pixels;

@@ -85,8 +85,8 @@ class RoiStereoMatcher {
   struct DisparityWindow {
     int min = 0, num = 0;
   };
-  /// The rectified rectangles matched (the right one is the left moved left by min_disparity) and the
-  /// disparities searched in them (fewer than the window's near the image's left edge).
+  /// The rectified rectangles matched (the right one is the left moved left by min_disparity; either may reach
+  /// left of the image, x < 0, where it is padded) and the disparities searched in them.
   struct MatchBand {
     cv::Rect left, right;
     int min_disparity = 0, num_disparities = 0;
@@ -98,7 +98,7 @@ class RoiStereoMatcher {
   /// Around a finite silhouette disparity by the expected relief of an object of rectified box `box`; else
   /// the whole workspace.
   DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
-  /// The band around `box` (plus the margin) that `window` needs, clipped to the image.
+  /// The band around `box` (plus the margin) that `window` needs, clipped to the image's top, bottom and right.
   MatchBand matchBand(const DisparityWindow& window, const cv::Rect& box) const;
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
