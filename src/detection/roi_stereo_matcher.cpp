@@ -289,10 +289,12 @@ RoiStereoMatcher::MatchBand RoiStereoMatcher::matchBand(const DisparityWindow& w
   // same rectangle moved left by the window's start, so block matching runs with disparities 0..num-1 (true
   // disparity = that + min_disparity). Near the image's left edge both may reach beyond it (padded): an object
   // there is still matched wherever the right camera sees it.
+  // A pixel at column x is in the right image only at disparities up to x: the window ends at the box's right
+  // edge (an object near the left edge needs fewer disparities, and its band less padding).
   MatchBand band;
   band.min_disparity = window.min;
-  band.num_disparities = window.num;
-  const int x0 = box.x - config_.margin_px - window.num, y0 = std::max(0, box.y - config_.margin_px);
+  band.num_disparities = std::min(window.num, roundUpToDisparityStep(std::max(0, box.br().x - window.min)));
+  const int x0 = box.x - config_.margin_px - band.num_disparities, y0 = std::max(0, box.y - config_.margin_px);
   const int x1 = std::min(size.width, box.br().x + config_.margin_px),
             y1 = std::min(size.height, box.br().y + config_.margin_px);
   band.left = cv::Rect(x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0));
