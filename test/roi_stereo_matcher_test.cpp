@@ -84,9 +84,28 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
   EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
 }
 
-TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedOverTheWholeWorkspace) {
-  // Without a silhouette block matching searches every workspace disparity, more than such an object has
-  // columns on its left: its pixels are matched all the same wherever the right camera sees them.
+TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
+  const GreyPair pair = texturedPanelAt(2.0);
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const StereoMatchConfig workspace;
+  const double fb = pair.calibration.focalPx() * pair.calibration.baselineM();
+  const double workspace_disparities = fb / workspace.min_depth_m - fb / workspace.max_depth_m;
+  const cv::Rect roi(300, 180, 60, 50);
+  const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
+  EXPECT_TRUE(std::isnan(pts.silhouette_disparity));
+  EXPECT_GT(pts.searched_disparities, 0);
+  EXPECT_LT(pts.searched_disparities, workspace_disparities / 2);
+  ASSERT_GT(pts.points.size(), 500U);
+  std::vector<float> z;
+  for (const auto& p : pts.points) z.push_back(p.z());
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
+}
+
+TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedWithoutASilhouette) {
+  // Without a silhouette block matching searches (at half size first) every workspace disparity, more than
+  // such an object has columns on its left: its pixels are matched all the same wherever the right camera
+  // sees them.
   const GreyPair pair = texturedPanelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
   const double disparity = pair.calibration.focalPx() * pair.calibration.baselineM() / 2.0;

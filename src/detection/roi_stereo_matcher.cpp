@@ -38,6 +38,9 @@ constexpr int kP1PerBlockPixel = 8, kP2PerBlockPixel = 32;
 /// Left-right consistency [px]: a disparity the right-to-left check moves by more is refused (object edges).
 constexpr int kDisp12MaxDiff = 1;
 
+/// Half-size matches of an object without a silhouette needed to narrow the full-size search around their
+/// median (an object's worth of points, as min_cluster_points' default; fewer: the whole workspace is searched).
+constexpr int kMinCoarseMatches = 30;
 /// Block matching searches disparities in blocks of this many (SgbmParams::num_disparities, as OpenCV's
 /// numDisparities, must be a multiple).
 constexpr int kDisparityStep = 16;
@@ -222,35 +225,81 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     // Outside the workspace it is a wrong match (or an object nearer or farther): not trusted.
     if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   }
-  const MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
-  const cv::Rect left_inside = band.left & cv::Rect(cv::Point(), left_map_xy_.size());
+  MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
   // Nothing to match: a box beyond the image (a far-fetched calibration), or too short for a block.
-  if (band.num_disparities < kDisparityStep || band.left.height < config_.block_size || left_inside.empty() ||
-      band.left.width <= band.num_disparities + config_.block_size) {
+  auto nothingToMatch = [&](const MatchBand& b) {
+    const cv::Rect inside = b.left & cv::Rect(cv::Point(), left_map_xy_.size());
+    return b.num_disparities < kDisparityStep || b.left.height < config_.block_size || inside.empty() ||
+           b.left.width <= b.num_disparities + config_.block_size;
+  };
+  if (nothingToMatch(band)) {
     out.rectify_ms = lap.lapMs();
     return out;
   }
-
-  const cv::Mat left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, band.left);
-  const cv::Mat right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, band.right);
-  cv::Mat mask_band;
-  remapBand(mask, mask_band, left_map_xy_(left_inside), left_map_fraction_(left_inside), roi.tl(), cv::INTER_NEAREST);
-  if (left_inside.x > band.left.x) {
-    cv::copyMakeBorder(mask_band, mask_band, 0, 0, left_inside.x - band.left.x, 0, cv::BORDER_CONSTANT, 0);
-  }
-  if (config_.erode_px > 0) {
-    cv::erode(mask_band, mask_band,
-              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
-  }
+  cv::Mat left_band, right_band, mask_band;
+  auto rectifyBands = [&](const MatchBand& b) {
+    left_band = rectifiedGrey(left, left_map_xy_, left_map_fraction_, b.left);
+    right_band = rectifiedGrey(right, right_map_xy_, right_map_fraction_, b.right);
+    const cv::Rect inside = b.left & cv::Rect(cv::Point(), left_map_xy_.size());
+    remapBand(mask, mask_band, left_map_xy_(inside), left_map_fraction_(inside), roi.tl(), cv::INTER_NEAREST);
+    if (inside.x > b.left.x) {
+      cv::copyMakeBorder(mask_band, mask_band, 0, 0, inside.x - b.left.x, 0, cv::BORDER_CONSTANT, 0);
+    }
+    if (config_.erode_px > 0) {
+      cv::erode(mask_band, mask_band,
+                cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
+    }
+  };
+  rectifyBands(band);
   out.mask_pixels = cv::countNonZero(mask_band);
   out.rectify_ms = lap.lapMs();
   if (out.mask_pixels == 0) return out;
+  // Without a silhouette, a search at half size over the whole workspace (an eighth of the work) sets the
+  // window the full-size one searches.
+  if (!std::isfinite(out.silhouette_disparity)) {
+    const double coarse = coarseDisparity(left_band, right_band, mask_band, band);
+    if (std::isfinite(coarse)) {
+      const MatchBand narrow = matchBand(disparityWindow(coarse, box), box);
+      if (!nothingToMatch(narrow)) {
+        band = narrow;
+        rectifyBands(band);
+        out.mask_pixels = cv::countNonZero(mask_band);
+      }
+    }
+    out.rectify_ms += lap.lapMs();
+  }
 
+  out.searched_disparities = band.num_disparities;
   const cv::Mat disparity16 = blockMatch(left_band, right_band, band.num_disparities);
   out.matching_ms = lap.lapMs();
   reproject(mask_band, disparity16, band, out);
   out.reprojection_ms = lap.lapMs();
   return out;
+}
+
+double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat& right_band, const cv::Mat& mask_band,
+                                         const MatchBand& band) const {
+  cv::Mat l, r, m;
+  cv::resize(left_band, l, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(right_band, r, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+  cv::resize(mask_band, m, l.size(), 0, 0, cv::INTER_NEAREST);
+  const int num = roundUpToDisparityStep((band.num_disparities + 1) / 2);
+  if (l.cols <= num + config_.block_size || l.rows < config_.block_size) return std::numeric_limits<double>::quiet_NaN();
+  const cv::Mat d16 = blockMatch(l, r, num);
+  std::vector<float> found;
+  for (int v = 0; v < m.rows; ++v) {
+    const auto* mm = m.ptr<std::uint8_t>(v);
+    const auto* d = d16.ptr<short>(v);
+    for (int u = 0; u < m.cols; ++u) {
+      if (!mm[u] || d[u] < 0) continue;
+      const float disparity = 2.0f * d[u] / cv::StereoMatcher::DISP_SCALE + band.min_disparity;
+      if (2 * u + band.left.x - disparity >= 0) found.push_back(disparity);  // not into the right band's padding
+    }
+  }
+  if (static_cast<int>(found.size()) < kMinCoarseMatches) return std::numeric_limits<double>::quiet_NaN();
+  std::nth_element(found.begin(), found.begin() + found.size() / 2, found.end());
+  const double median = found[found.size() / 2];
+  return inWorkspace(median) ? median : std::numeric_limits<double>::quiet_NaN();
 }
 
 void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi,

@@ -45,7 +45,11 @@ struct RoiPoints {
   /// or axis, free of the smoothing that flattens stereo surfaces. NaN when no right mask was given or the
   /// silhouette was not found in it.
   double silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
-  /// Wall time [ms] of the steps: silhouette disparity and rectifying the band (grey and mask), block matching,
+  /// Disparities block matching searched at full size: a window around the silhouette's disparity, else around
+  /// the median of a half-size search over the whole workspace, else (too few half-size matches) the workspace.
+  int searched_disparities = 0;
+  /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
+  /// mask), block matching,
   /// reprojecting the mask's pixels.
   double rectify_ms = 0, matching_ms = 0, reprojection_ms = 0;
 };
@@ -95,11 +99,15 @@ class RoiStereoMatcher {
   /// @throw std::invalid_argument as match() says.
   void checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                         const cv::Mat& right_colour, const cv::Point& right_colour_origin, const cv::Mat& left_colour) const;
-  /// Around a finite silhouette disparity by the expected relief of an object of rectified box `box`; else
-  /// the whole workspace.
+  /// Around a finite disparity (the silhouette's, or the half-size search's) by the expected relief of an
+  /// object of rectified box `box`; else the whole workspace.
   DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
   /// The band around `box` (plus the margin) that `window` needs, clipped to the image's top, bottom and right.
   MatchBand matchBand(const DisparityWindow& window, const cv::Rect& box) const;
+  /// The median disparity of the mask's pixels that block matching at half size matches in `band` (whose bands
+  /// and mask are given at full size); NaN when fewer than kMinCoarseMatches match or it is outside the workspace.
+  double coarseDisparity(const cv::Mat& left_band, const cv::Mat& right_band, const cv::Mat& mask_band,
+                         const MatchBand& band) const;
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
   /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`).
