@@ -185,6 +185,17 @@ TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
   bad.block_size = 4;
   EXPECT_EQ(bad.validate().size(), 2U);
   EXPECT_THROW(RoiStereoMatcher(c, bad), std::invalid_argument);
+  // A valid workspace too deep for block matching's widest search with this head: refused, saying why.
+  StereoMatchConfig deep;
+  deep.min_depth_m = 0.06;
+  ASSERT_TRUE(deep.validate().empty());
+  ASSERT_GT(c.focalPx() * c.baselineM() / deep.min_depth_m, 1100);
+  try {
+    RoiStereoMatcher matcher(c, deep);
+    ADD_FAILURE() << "a workspace of more than 1024 disparities was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("raise min_depth_m"), std::string::npos) << e.what();
+  }
   c.right.P(0, 3) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(RoiStereoMatcher(c, StereoMatchConfig{}), std::invalid_argument);
 }

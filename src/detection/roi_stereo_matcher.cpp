@@ -191,6 +191,17 @@ RoiStereoMatcher::RoiStereoMatcher(const StereoCalibration& calibration, const S
   std::vector<std::string> problems = calibration_.validate();
   const auto config_problems = config_.validate();
   problems.insert(problems.end(), config_problems.begin(), config_problems.end());
+  if (problems.empty()) {
+    const auto [d_lo, d_hi] = workspaceDisparities();
+    if (roundUpToDisparityStep(d_hi - d_lo) > kMaxSgbmDisparities) {
+      problems.push_back("stereo: the workspace " + std::to_string(config_.min_depth_m) + "-" +
+                         std::to_string(config_.max_depth_m) + " m spans " + std::to_string(d_hi - d_lo) +
+                         " disparities with this calibration (focal length x baseline " +
+                         std::to_string(calibration_.focalPx() * calibration_.baselineM()) +
+                         " px m); block matching searches at most " + std::to_string(kMaxSgbmDisparities) +
+                         ": raise min_depth_m");
+    }
+  }
   if (!problems.empty()) throw std::invalid_argument(joinProblems("RoiStereoMatcher", problems));
   buildMaps(calibration_.left, left_map_xy_, left_map_fraction_);
   buildMaps(calibration_.right, right_map_xy_, right_map_fraction_);
@@ -226,7 +237,8 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   }
   MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
-  // Nothing to match: a box beyond the image (a far-fetched calibration), or too short for a block.
+  // Nothing to match: a box beyond the image (a far-fetched calibration), too short for a block or too narrow
+  // for the disparities searched.
   auto nothingToMatch = [&](const MatchBand& b) {
     const cv::Rect inside = b.left & cv::Rect(cv::Point(), left_map_xy_.size());
     return b.num_disparities < kDisparityStep || b.left.height < config_.block_size || inside.empty() ||

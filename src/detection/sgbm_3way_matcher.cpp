@@ -55,7 +55,7 @@ constexpr int kClip = 15;      ///< preFilterCap 0: OpenCV clips the Sobel respo
 }
 [[gnu::target("avx2")]] inline Cost lane0(__m256i v) { return static_cast<Cost>(_mm256_extract_epi16(v, 0)); }
 
-constexpr int kMaxBlocks = 1024 / kLanes;  ///< the widest search, in blocks of 16 disparities
+constexpr int kMaxBlocks = kMaxSgbmDisparities / kLanes;  ///< the widest search, in blocks of 16 disparities
 
 /// One step of a path over all disparities, `nb` blocks: out[d] = cost[d] + min(prev[d-1] + P1, prev[d+1] + P1,
 /// prev[d], prev_min + P2) - (prev_min + P2) with prev[-1] = prev[D] = SHRT_MAX, in OpenCV's order of saturating
@@ -437,8 +437,9 @@ class StripeMatcher {
 
 std::vector<std::string> SgbmParams::validate() const {
   std::vector<std::string> p;
-  if (num_disparities < kLanes || num_disparities % kLanes != 0 || num_disparities > 1024) {
-    p.push_back("num_disparities must be a multiple of 16 in [16, 1024], got " + std::to_string(num_disparities));
+  if (num_disparities < kLanes || num_disparities % kLanes != 0 || num_disparities > kMaxSgbmDisparities) {
+    p.push_back("num_disparities must be a multiple of 16 in [16, " + std::to_string(kMaxSgbmDisparities) + "], got " +
+                std::to_string(num_disparities));
   }
   if (block_size < 3 || block_size > 11 || block_size % 2 == 0) p.push_back("block_size must be odd, 3..11");
   if (p1 <= 0 || p2 <= p1 || p2 > 10000) p.push_back("need 0 < p1 < p2 <= 10000");

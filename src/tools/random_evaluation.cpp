@@ -143,8 +143,9 @@ double severity(const ObjectRecord& o) {
 
 const std::vector<std::string>& missCauseNames() {
   static const std::vector<std::string> names = [] {
-    std::vector<std::string> all{"no votes"};
+    std::vector<std::string> all{"frame spoiled"};
     for (int s = 0; s < kRejectionStageCount; ++s) all.push_back(rejectionStageName(static_cast<RejectionStage>(s)));
+    all.push_back("no votes");
     return all;
   }();
   return names;
@@ -226,7 +227,9 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   for (std::size_t k = 0; k < rec.objects.size(); ++k) {
     ObjectRecord& o = rec.objects[k];
     if (!o.eligible || o.found) continue;
-    o.miss_cause = latest[k] < 0 ? missCauseNames().front() : rejectionStageName(static_cast<RejectionStage>(latest[k]));
+    o.miss_cause = result.quality.spoiled() ? missCauseNames().front()
+                   : latest[k] < 0        ? missCauseNames().back()
+                                          : rejectionStageName(static_cast<RejectionStage>(latest[k]));
   }
   return rec;
 }

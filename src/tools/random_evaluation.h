@@ -65,11 +65,10 @@ struct PairRecord {
   std::vector<FalseRecord> false_detections;
 };
 
-/// Why a missed object was missed, from the detector's rejections on it, latest stage first: rejected after
-/// stereo ("too few 3D points", "size outside its colour's range", "shape fit failed"), left out of the
-/// candidates ("more than max_candidates"), votes for a designated colour under its min_confidence ("colour
-/// votes under the threshold"), named a colour not designated here; "no votes": no region on it got even half the
-/// votes a colour needs (or none was proposed).
+/// Why a missed object was missed, as named in ObjectRecord::miss_cause: "frame spoiled" (the quality gate
+/// reported the frame and nothing was searched); the latest RejectionStage (rejectionStageName) of the detector's
+/// rejections on it; else "no votes": no region on it got even half the votes a colour needs, none was proposed,
+/// or its region was passed over as a weaker view of a kept candidate. In that order.
 const std::vector<std::string>& missCauseNames();
 
 /// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the

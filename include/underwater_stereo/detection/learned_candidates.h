@@ -43,7 +43,7 @@ enum class RejectionStage {
   kWrongSize,            ///< metric size outside its colour's configured range
   kPieceOfObject,        ///< measured again as part of a larger detection of its colour
 };
-constexpr int kRejectionStageCount = 7;
+constexpr int kRejectionStageCount = static_cast<int>(RejectionStage::kPieceOfObject) + 1;
 
 /// Short name of a stage ("colour uncertain", "too few 3D points"...).
 std::string rejectionStageName(RejectionStage stage);

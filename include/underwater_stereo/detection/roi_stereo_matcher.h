@@ -38,7 +38,7 @@ struct StereoMatchConfig {
 struct RoiPoints {
   std::vector<Eigen::Vector3f> points;  ///< [m]
   int mask_pixels = 0;                  ///< object pixels in the rectified band (after erosion)
-  int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace
+  int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace (and the right image)
   /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
   /// and right colour masks (sub-pixel, from the masks' column profiles). A sphere's outline is the tangent
   /// cone around its centre and a cylinder's the tangent lines of its axis, so this is the depth of the centre
@@ -46,7 +46,9 @@ struct RoiPoints {
   /// silhouette was not found in it.
   double silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   /// Disparities block matching searched at full size: a window around the silhouette's disparity, else around
-  /// the median of a half-size search over the whole workspace, else (too few half-size matches) the workspace.
+  /// the median of a half-size search over the whole workspace, else (too few half-size matches) the workspace;
+  /// never more than the box's right edge allows (a pixel at column x is in the right image up to disparity x).
+  /// 0 when nothing was matched.
   int searched_disparities = 0;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
   /// mask), block matching,
