@@ -92,6 +92,15 @@ double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
   return inter / std::max(1, std::min(a.area(), b.area()));
 }
 
+bool sameRegion(const cv::Rect& a, const cv::Mat& a_mask, const cv::Rect& b, const cv::Mat& b_mask, double max_overlap) {
+  if (overlapOfSmaller(a, b) <= max_overlap) return false;
+  const cv::Rect both = a & b;
+  cv::Mat common;
+  cv::bitwise_and(a_mask(both - a.tl()), b_mask(both - b.tl()), common);
+  const int smaller = std::min(cv::countNonZero(a_mask), cv::countNonZero(b_mask));
+  return smaller == 0 || cv::countNonZero(common) > max_overlap * smaller;
+}
+
 std::vector<std::string> LearnedColourConfig::validate() const {
   std::vector<std::string> p;
   if (!(min_confidence > 0 && min_confidence <= 1)) p.push_back("colour_model.min_confidence must be in (0, 1]");
@@ -158,7 +167,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                    [](const Named& a, const Named& b) { return a.verdict.confidence > b.verdict.confidence; });
   for (Named& n : named) {
     const bool same_object = std::any_of(out.candidates.begin(), out.candidates.end(), [&](const Candidate& kept) {
-      return overlapOfSmaller(kept.roi, n.proposal.roi) > config.max_overlap;
+      return sameRegion(kept.roi, kept.mask, n.proposal.roi, n.proposal.mask, config.max_overlap);
     });
     if (same_object) continue;  // a weaker view of an object already taken: not a rejection
     if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {

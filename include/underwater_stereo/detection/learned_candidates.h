@@ -30,8 +30,13 @@ struct LearnedColourConfig {
   std::vector<std::string> validate() const;
 };
 
-/// Intersection over the smaller box's area: above colour_model.max_overlap two regions are one object.
+/// Intersection over the smaller box's area.
 double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b);
+/// Whether two regions (boxes and their CV_8UC1 box-sized masks, in one image) are views of one object: their
+/// boxes and their masks both overlap more than `max_overlap` (colour_model.max_overlap) of the smaller. A region
+/// inside another's box but not on its pixels (a small object in front of a large one, beside its outline) is
+/// another object.
+bool sameRegion(const cv::Rect& a, const cv::Mat& a_mask, const cv::Rect& b, const cv::Mat& b_mask, double max_overlap);
 
 /// The stage that turned a region down, in the order of the pipeline.
 enum class RejectionStage {
