@@ -35,6 +35,14 @@ GreyPair texturedPanelAt(double depth) {
   return out;
 }
 
+/// The median depth [m] of matched points (there must be some).
+double medianDepth(const RoiPoints& pts) {
+  std::vector<float> z;
+  for (const auto& p : pts.points) z.push_back(p.z());
+  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+  return z[z.size() / 2];
+}
+
 /// A uniformly coloured red ball (no texture for block matching) on bluish water, 0.3 m across, `depth` ahead:
 /// its grey views, both colour masks as the detector makes them, its roi and the outline's expected disparity
 /// (the tangent circle R^2 / d in front of its centre).
@@ -78,10 +86,7 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
   const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
   ASSERT_GT(pts.points.size(), 500U);
   EXPECT_GT(pts.matched_pixels, 0.9 * pts.mask_pixels);
-  std::vector<float> z;
-  for (const auto& p : pts.points) z.push_back(p.z());
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
+  EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
 TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
@@ -96,10 +101,7 @@ TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
   EXPECT_GT(pts.searched_disparities, 0);
   EXPECT_LT(pts.searched_disparities, workspace_disparities / 2);
   ASSERT_GT(pts.points.size(), 500U);
-  std::vector<float> z;
-  for (const auto& p : pts.points) z.push_back(p.z());
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
+  EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
 TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedWithoutASilhouette) {
@@ -113,10 +115,7 @@ TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedWithoutASilhouette) {
   const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
   EXPECT_GT(pts.matched_pixels, 0.9 * pts.mask_pixels);
   ASSERT_GT(pts.points.size(), 500U);
-  std::vector<float> z;
-  for (const auto& p : pts.points) z.push_back(p.z());
-  std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-  EXPECT_NEAR(z[z.size() / 2], 2.0, 0.02);
+  EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
 TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
