@@ -191,8 +191,8 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
     if (!joined) continue;
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];
-      why[k] = Rejection{found[k]->roi, found[k]->colour, candidates[k].colour_fraction,
-                         RejectionStage::kPieceOfObject, "a piece of the object at " + std::to_string(joined->range_m) + " m reported whole"};
+      why[k] = Rejection{found[k]->roi, found[k]->colour, candidates[k].colour_fraction, RejectionStage::kPieceOfObject,
+                         "a piece of the object at " + std::to_string(joined->range_m) + " m reported whole"};
       found[k].reset();
     }
     found[first] = std::move(joined);

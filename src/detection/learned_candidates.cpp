@@ -92,7 +92,8 @@ double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
   return inter / std::max(1, std::min(a.area(), b.area()));
 }
 
-bool sameRegion(const cv::Rect& a, const cv::Mat& a_mask, const cv::Rect& b, const cv::Mat& b_mask, double max_overlap) {
+bool sameRegion(const cv::Rect& a, const cv::Mat& a_mask, const cv::Rect& b, const cv::Mat& b_mask,
+                double max_overlap) {
   if (overlapOfSmaller(a, b) <= max_overlap) return false;
   const cv::Rect both = a & b;
   cv::Mat common;

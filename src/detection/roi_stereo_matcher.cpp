@@ -258,8 +258,8 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
       cv::copyMakeBorder(mask_band, mask_band, 0, 0, inside.x - b.left.x, 0, cv::BORDER_CONSTANT, 0);
     }
     if (config_.erode_px > 0) {
-      cv::erode(mask_band, mask_band,
-                cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * config_.erode_px + 1, 2 * config_.erode_px + 1)));
+      const int side = 2 * config_.erode_px + 1;
+      cv::erode(mask_band, mask_band, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(side, side)));
     }
   };
   rectifyBands(band);
@@ -296,7 +296,9 @@ double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat
   cv::resize(right_band, r, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
   cv::resize(mask_band, m, l.size(), 0, 0, cv::INTER_NEAREST);
   const int num = roundUpToDisparityStep((band.num_disparities + 1) / 2);
-  if (l.cols <= num + config_.block_size || l.rows < config_.block_size) return std::numeric_limits<double>::quiet_NaN();
+  if (l.cols <= num + config_.block_size || l.rows < config_.block_size) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   const cv::Mat d16 = blockMatch(l, r, num);
   std::vector<float> found;
   for (int v = 0; v < m.rows; ++v) {

@@ -51,8 +51,7 @@ struct RoiPoints {
   /// 0 when nothing was matched.
   int searched_disparities = 0;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
-  /// mask), block matching,
-  /// reprojecting the mask's pixels.
+  /// mask), block matching, reprojecting the mask's pixels.
   double rectify_ms = 0, matching_ms = 0, reprojection_ms = 0;
 };
 

@@ -18,12 +18,12 @@
 
 namespace underwater_stereo {
 
-/// The cv::StereoSGBM settings this matcher supports (minDisparity 0, preFilterCap 0, no speckle filter).
 /// The widest search Sgbm3WayMatcher takes (SgbmParams::num_disparities).
 constexpr int kMaxSgbmDisparities = 1024;
 
+/// The cv::StereoSGBM settings this matcher supports (minDisparity 0, preFilterCap 0, no speckle filter).
 struct SgbmParams {
-  int num_disparities = 16;  ///< searched disparities 0..num_disparities-1; a multiple of 16, at most kMaxSgbmDisparities
+  int num_disparities = 16;  ///< searched disparities 0..num_disparities-1; a multiple of 16, <= kMaxSgbmDisparities
   int block_size = 5;        ///< odd, 3..11
   int p1 = 200;              ///< penalty for a disparity change of one between neighbours
   int p2 = 800;              ///< penalty for a larger change; > p1
