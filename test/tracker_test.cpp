@@ -237,6 +237,27 @@ TEST(Tracker, TentativeTracksOfOneGlimpseAreDropped) {
   EXPECT_EQ(tracker.update(f).dropped.size(), 1U);
 }
 
+TEST(Tracker, AnObjectCutByTheImageBorderUpdatesATrackButStartsNone) {
+  Tracker tracker(TrackingConfig{});
+  TrackingFrame f;
+  Observation cut;
+  cut.colour = "green";
+  cut.position_m = {1.5, 0, 3};
+  cut.cut_by_border = true;
+  f.observations = {cut};
+  EXPECT_EQ(tracker.update(f).track_ids[0], 0U) << "a partly seen object starts no track";
+  Observation whole = cut;
+  whole.cut_by_border = false;
+  whole.position_m = {1.4, 0, 3};
+  f.stamp_s = 0.1;
+  f.observations = {whole};
+  const std::uint32_t id = tracker.update(f).track_ids[0];
+  EXPECT_NE(id, 0U);
+  f.stamp_s = 0.2;
+  f.observations = {cut};
+  EXPECT_EQ(tracker.update(f).track_ids[0], id) << "leaving the view, it still updates its track";
+}
+
 TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
   TrackingConfig config;
   config.targets = {{"red_buoy", "red", ShapeKind::kSphere, 0.25, 0.3}};

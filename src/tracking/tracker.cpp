@@ -248,10 +248,10 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
   }
   tracks_ = std::move(kept);
 
-  // Observations no track took start tentative tracks.
+  // Observations no track took start tentative tracks (unless cut by the image's border).
   for (std::size_t i = 0; i < n; ++i) {
-    if (!usable[i] || observation_taken[i]) continue;
     const Observation& o = frame.observations[i];
+    if (!usable[i] || observation_taken[i] || o.cut_by_border) continue;
     Track t;
     t.id = next_id_++;
     t.colour = o.colour;

@@ -48,6 +48,9 @@ struct Observation {
   ShapeKind shape = ShapeKind::kUnknown;
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();
   int target = -1;              ///< index into TrackingConfig::targets (TargetMatcher), -1: none
+  /// Its image touches the image's border: the object is partly out of view and its centre guessed from a
+  /// part. It may update a track; it starts none.
+  bool cut_by_border = false;
 };
 
 /// One stereo pair's detections.
