@@ -41,6 +41,7 @@
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/pairing_monitor.h"
+#include "underwater_stereo/ros_glue/recent_problems.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
 #include "underwater_stereo/ros_glue/stereo_input.h"
 
@@ -273,10 +274,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   }
 
   void badInput(const std::string& what) {
-    ++bad_inputs_;
-    std::lock_guard<std::mutex> lock(stats_mutex_);
-    last_error_ = what;
-    last_error_time_ = ros::WallTime::now();
+    bad_inputs_.add(what, ros::WallTime::now().toSec());
     NODELET_ERROR_STREAM_THROTTLE(5.0, "DetectorNodelet: pair skipped: " << what);
   }
 
@@ -361,11 +359,11 @@ class DetectorNodelet : public nodelet::Nodelet {
     last_dropped_ = dropped;
     last_unpaired_ = unpaired.unpaired_left + unpaired.unpaired_right;
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    const bool recent_error = !last_error_time_.isZero() && (now - last_error_time_).toSec() < kErrorHoldS;
+    const std::string recent_errors = bad_inputs_.summary(now.toSec());
     if (!enabled_) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "paused (~enable false): no pairs received or processed");
-    } else if (recent_error) {
-      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "bad input: " + last_error_);
+    } else if (!recent_errors.empty()) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "bad input: " + recent_errors);
     } else if (unpaired_now > 0) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                    std::to_string(unpaired_now) + " image(s) never paired since the last report; last: " + unpaired.last);
@@ -389,8 +387,9 @@ class DetectorNodelet : public nodelet::Nodelet {
     stat.add("left images never paired", unpaired.unpaired_left);
     stat.add("right images never paired", unpaired.unpaired_right);
     stat.add("last unpaired image", unpaired.last.empty() ? std::string("none") : unpaired.last);
-    stat.add("bad input pairs", static_cast<long>(bad_inputs_));
-    stat.add("last bad input", last_error_.empty() ? std::string("none") : last_error_);
+    const std::string last_error = bad_inputs_.last();
+    stat.add("bad input pairs", bad_inputs_.count());
+    stat.add("last bad input", last_error.empty() ? std::string("none") : last_error);
     stat.add("processing time [ms]", last_processing_ms_);
     stat.add("max processing time [ms]", max_processing_ms_);
     stat.add("quality", qualityStatusName(last_quality_.status));
@@ -401,6 +400,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   }
 
   static constexpr double kErrorHoldS = 5.0;  ///< a bad pair keeps the diagnostic at ERROR this long
+  static constexpr std::size_t kErrorKindsNamed = 4;  ///< distinct bad inputs named in the summary, then counted
 
   // Configuration.
   DetectorConfig config_;
@@ -442,10 +442,10 @@ class DetectorNodelet : public nodelet::Nodelet {
   // Diagnostics.
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   ros::WallTimer diagnostics_timer_;
-  std::atomic<long> received_{0}, processed_{0}, bad_inputs_{0};
+  std::atomic<long> received_{0}, processed_{0};
+  ros_glue::RecentProblems bad_inputs_{kErrorHoldS, kErrorKindsNamed};
   std::mutex stats_mutex_;
-  std::string last_error_;
-  ros::WallTime last_error_time_, last_diagnosis_;
+  ros::WallTime last_diagnosis_;
   long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
   std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
