@@ -109,6 +109,13 @@ class Scenario {
   std::map<std::size_t, std::map<std::uint32_t, int>> assignments;
 };
 
+Observation observation(const std::string& colour, const Eigen::Vector3d& position) {
+  Observation o;
+  o.colour = colour;
+  o.position_m = position;
+  return o;
+}
+
 const Track* nearest(const Tracker& tracker, const Eigen::Vector3d& p) {
   const Track* best = nullptr;
   for (const Track& t : tracker.tracks()) {
@@ -186,9 +193,7 @@ TEST(Tracker, ConfirmsAfterNHitsAndDropsAfterMMissesInView) {
   Tracker tracker(config);
   TrackingFrame f;
   f.in_view = [](const Eigen::Vector3d&) { return true; };
-  Observation o;
-  o.colour = "red";
-  o.position_m = {0, 0, 2};
+  const Observation o = observation("red", {0, 0, 2});
   f.observations = {o};
   std::uint32_t id = 0;
   for (int k = 0; k < 3; ++k) {
@@ -224,9 +229,7 @@ TEST(Tracker, ConfirmsAfterNHitsAndDropsAfterMMissesInView) {
 TEST(Tracker, TentativeTracksOfOneGlimpseAreDropped) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation o;
-  o.colour = "green";
-  o.position_m = {0.3, 0, 3};
+  const Observation o = observation("green", {0.3, 0, 3});
   f.observations = {o};
   tracker.update(f);
   f.observations.clear();
@@ -240,9 +243,7 @@ TEST(Tracker, TentativeTracksOfOneGlimpseAreDropped) {
 TEST(Tracker, AnObjectCutByTheImageBorderUpdatesATrackButStartsNone) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation cut;
-  cut.colour = "green";
-  cut.position_m = {1.5, 0, 3};
+  Observation cut = observation("green", {1.5, 0, 3});
   cut.cut_by_border = true;
   f.observations = {cut};
   EXPECT_EQ(tracker.update(f).track_ids[0], 0U) << "a partly seen object starts no track";
@@ -264,11 +265,9 @@ TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
   config.confirm_hits = 1;  // a confirmed track survives the pairs without it
   Tracker tracker(config);
   TrackingFrame f;
-  Observation red;
-  red.colour = "red";
+  Observation red = observation("red", {0, 0, 2});
   red.shape = ShapeKind::kSphere;
   red.target = 0;
-  red.position_m = {0, 0, 2};
   f.observations = {red};
   const std::uint32_t id = tracker.update(f).track_ids[0];
   Observation orange = red, box = red, untargeted = red, unknown = red;
@@ -291,10 +290,7 @@ TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
 TEST(Tracker, NanDetectionIsReportedAndNotTracked) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation good, bad;
-  good.colour = bad.colour = "red";
-  good.position_m = {0, 0, 2};
-  bad.position_m = {std::nan(""), 0, 2};
+  const Observation good = observation("red", {0, 0, 2}), bad = observation("red", {std::nan(""), 0, 2});
   f.observations = {bad, good};
   const TrackingUpdate u = tracker.update(f);
   EXPECT_EQ(u.outcome, FrameOutcome::kTracked);
@@ -312,9 +308,7 @@ TEST(Tracker, NanDetectionIsReportedAndNotTracked) {
 TEST(Tracker, StampGoingBackwardsIsIgnoredOrResets) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation o;
-  o.colour = "red";
-  o.position_m = {0, 0, 2};
+  const Observation o = observation("red", {0, 0, 2});
   f.observations = {o};
   for (int k = 0; k < 5; ++k) {
     f.stamp_s = 10.0 + k * 0.1;
@@ -339,9 +333,7 @@ TEST(Tracker, StampGoingBackwardsIsIgnoredOrResets) {
 TEST(Tracker, CameraTeleportResetsTracks) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation o;
-  o.colour = "red";
-  o.position_m = {0, 0, 2};
+  const Observation o = observation("red", {0, 0, 2});
   f.observations = {o};
   for (int k = 0; k < 5; ++k) {
     f.stamp_s = k * 0.1;
@@ -367,12 +359,8 @@ TEST(Tracker, FindConfirmedTakesTheLatestOfALabel) {
   config.confirm_hits = 1;
   Tracker tracker(config);
   TrackingFrame f;
-  Observation a;
-  a.colour = "red";
-  a.target = 0;
-  a.position_m = {-1, 0, 2};
-  Observation b = a;
-  b.position_m = {1, 0, 2};
+  Observation a = observation("red", {-1, 0, 2}), b = observation("red", {1, 0, 2});
+  a.target = b.target = 0;
   f.observations = {a, b};
   tracker.update(f);
   f.stamp_s = 1.0;
@@ -398,11 +386,8 @@ TEST(Tracker, ADetectionOverTwoTracksIsTheirMergedImage) {
   Tracker tracker(config);
   TrackingFrame f;
   f.in_view = [](const Eigen::Vector3d&) { return true; };
-  Observation near, far;
-  near.colour = far.colour = "red";
+  Observation near = observation("red", {-0.3, 0, 2.0}), far = observation("red", {0.5, 0, 3.5});
   near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
-  near.position_m = {-0.3, 0, 2.0};
-  far.position_m = {0.5, 0, 3.5};
   f.observations = {near, far};
   std::vector<std::uint32_t> ids;
   for (int k = 0; k < 3; ++k) {
@@ -429,12 +414,9 @@ TEST(Tracker, ADetectionOverTwoTracksIsTheirMergedImage) {
 TEST(Tracker, ADetectionNextToANearerOneIsNotUsed) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  Observation near, far;
-  near.colour = "red";
-  far.colour = "green";
+  // 0.05 m apart in the image at 2 m: the far one partly hidden in the right camera
+  Observation near = observation("red", {-0.05, 0, 2.0}), far = observation("green", {0.2, 0, 3.5});
   near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
-  near.position_m = {-0.05, 0, 2.0};
-  far.position_m = {0.2, 0, 3.5};  // 0.05 m apart in the image at 2 m: partly hidden in the right camera
   f.observations = {near, far};
   const TrackingUpdate u = tracker.update(f);
   EXPECT_NE(u.track_ids[0], 0U);
