@@ -18,14 +18,14 @@ struct GreyPair {
   StereoCalibration calibration;
 };
 
-GreyPair texturedPanelAt(double depth) {
+GreyPair panelAt(double depth, double texture = 0.8) {
   sim::SceneObject panel;
   panel.name = "panel";
   panel.shape = sim::ShapeType::kPanel;
   panel.colour = "white";
   panel.position_m = {0, 0, depth};
   panel.size_m = {8, 6, 0};
-  panel.texture = 0.8;
+  panel.texture = texture;
   const sim::Renderer renderer(sim::test::smallScene(panel));
   const sim::RenderedPair pair = renderer.render(0, 0);
   GreyPair out;
@@ -33,6 +33,13 @@ GreyPair texturedPanelAt(double depth) {
   cv::cvtColor(pair.right, out.right, cv::COLOR_BGR2GRAY);
   out.calibration = renderer.calibration();
   return out;
+}
+
+/// Disparities between the default workspace's nearest and farthest depth.
+double workspaceDisparities(const StereoCalibration& calibration) {
+  const StereoMatchConfig workspace;
+  const double fb = calibration.focalPx() * calibration.baselineM();
+  return fb / workspace.min_depth_m - fb / workspace.max_depth_m;
 }
 
 /// The median depth [m] of matched points (there must be some).
@@ -80,7 +87,7 @@ RedBall redBallAt(double depth) {
 }  // namespace
 
 TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
-  const GreyPair pair = texturedPanelAt(2.0);
+  const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
   const cv::Rect roi(300, 180, 60, 50);
   const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
@@ -90,11 +97,9 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
 }
 
 TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
-  const GreyPair pair = texturedPanelAt(2.0);
+  const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
-  const StereoMatchConfig workspace;
-  const double fb = pair.calibration.focalPx() * pair.calibration.baselineM();
-  const double workspace_disparities = fb / workspace.min_depth_m - fb / workspace.max_depth_m;
+  const double workspace_disparities = workspaceDisparities(pair.calibration);
   const cv::Rect roi(300, 180, 60, 50);
   const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
   EXPECT_TRUE(std::isnan(pts.silhouette_disparity));
@@ -104,11 +109,23 @@ TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
   EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
+TEST(RoiStereoMatcher, WhenTheHalfSizeSearchFindsTooFewMatchesTheWholeWorkspaceIsSearched) {
+  // A plain panel (nothing for block matching to hold on to): no median to narrow the window around, so the
+  // full-size search covers the whole workspace, and finds no more than the half-size one did.
+  const GreyPair pair = panelAt(2.0, 0.0);
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const double workspace_disparities = workspaceDisparities(pair.calibration);
+  const cv::Rect roi(300, 180, 60, 50);
+  const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
+  EXPECT_GE(pts.searched_disparities, workspace_disparities);
+  EXPECT_LT(pts.matched_pixels, 0.05 * pts.mask_pixels);
+}
+
 TEST(RoiStereoMatcher, AnObjectNearTheLeftEdgeIsMatchedWithoutASilhouette) {
   // Without a silhouette block matching searches (at half size first) every workspace disparity, more than
   // such an object has columns on its left: its pixels are matched all the same wherever the right camera
   // sees them.
-  const GreyPair pair = texturedPanelAt(2.0);
+  const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
   const double disparity = pair.calibration.focalPx() * pair.calibration.baselineM() / 2.0;
   const cv::Rect roi(static_cast<int>(disparity) + 30, 180, 60, 50);
@@ -157,7 +174,7 @@ TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
 }
 
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
-  const GreyPair pair = texturedPanelAt(2.0);
+  const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
   for (const cv::Rect roi : {cv::Rect(0, 100, 20, 30), cv::Rect(0, 370, 30, 30), cv::Rect(610, 0, 30, 20)}) {
     EXPECT_NO_THROW(matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)))) << roi;
@@ -165,7 +182,7 @@ TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
 }
 
 TEST(RoiStereoMatcher, BadInputThrows) {
-  const GreyPair pair = texturedPanelAt(2.0);
+  const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
   const cv::Rect roi(300, 180, 60, 50);
   const cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(255));
@@ -178,7 +195,7 @@ TEST(RoiStereoMatcher, BadInputThrows) {
 }
 
 TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
-  StereoCalibration c = texturedPanelAt(2.0).calibration;
+  StereoCalibration c = panelAt(2.0).calibration;
   StereoMatchConfig bad;
   bad.min_depth_m = 6.0;
   bad.block_size = 4;
