@@ -2,6 +2,8 @@
 // Shape fitting on synthetic stereo-like points (visible face only, noise) with exact outline rays.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "underwater_stereo/detection/shape_fitter.h"
@@ -75,31 +77,87 @@ TEST(ShapeFitter, TiltedPanelIsAPlaneWithItsOutlineSize) {
   EXPECT_GT(std::abs(normal.dot(rot * Eigen::Vector3d::UnitZ())), 0.99);
 }
 
-TEST(ShapeFitter, TubeIsACylinderAlongItsAxis) {
-  std::mt19937 rng(kSeed);
-  std::normal_distribution<double> n(0.0, 0.003);
-  std::uniform_real_distribution<double> along(-0.4, 0.4), angle(-M_PI / 2 + 0.2, M_PI / 2 - 0.2);
-  const Eigen::Vector3d c(0.0, 0.2, 2.0);
-  const double r = 0.05;
-  std::vector<Eigen::Vector3f> pts;
-  for (int i = 0; i < 1500; ++i) {
-    const double a = angle(rng);  // facing the camera: -z side of the axis
-    pts.push_back((c + Eigen::Vector3d(along(rng), r * std::sin(a), -r * std::cos(a)) + Eigen::Vector3d::Constant(n(rng)))
-                      .cast<float>());
-  }
+/// What the cameras see of a closed tube `r` in radius and 2 `h` long centred at `c` along the unit `axis`: points
+/// where rays from the camera first meet it (its near cap and the front of its side; `noise` m along the ray) and
+/// the rays of its outline (the edge of what the rays meet, found by bisection in 720 image directions).
+struct Tube {
+  std::vector<Eigen::Vector3f> points;
   std::vector<Eigen::Vector3d> rays;
-  for (int i = 0; i <= 100; ++i) {
-    const double x = -0.4 + 0.8 * i / 100.0;
-    rays.push_back((c + Eigen::Vector3d(x, -r, 0)).normalized());
-    rays.push_back((c + Eigen::Vector3d(x, r, 0)).normalized());
+};
+
+Tube tubeAt(const Eigen::Vector3d& c, const Eigen::Vector3d& axis, double r, double h, double noise,
+            double border = std::numeric_limits<double>::infinity()) {
+  auto hit = [&](const Eigen::Vector3d& ray) {  // distance along a unit ray to the tube; infinity when it misses
+    double best = std::numeric_limits<double>::infinity();
+    if (ray.x() / ray.z() > border) return best;  // beyond the image's right edge
+    const double da = ray.dot(axis), ca = -c.dot(axis);
+    const Eigen::Vector3d dp = ray - da * axis, cp = -c - ca * axis;  // across the axis, relative to the centre
+    const double qa = dp.squaredNorm(), qb = 2 * dp.dot(cp), qc = cp.squaredNorm() - r * r;
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc >= 0 && qa > 1e-12) {
+      const double t = (-qb - std::sqrt(disc)) / (2 * qa);
+      if (std::abs(ca + t * da) <= h) best = t;
+    }
+    for (const double cap : {-h, h}) {
+      if (std::abs(da) < 1e-12) continue;
+      const double t = (cap - ca) / da;
+      if ((cp + t * dp).norm() <= r) best = std::min(best, t);
+    }
+    return best;
+  };
+  std::mt19937 rng(kSeed);
+  std::normal_distribution<double> n(0.0, noise);
+  const Eigen::Vector3d u = c.normalized().unitOrthogonal(), v = c.normalized().cross(u);
+  const double reach = std::hypot(r, h) * 1.5;
+  std::uniform_real_distribution<double> square(-reach, reach);
+  Tube tube;
+  for (int i = 0; tube.points.size() < 1500 && i < 100000; ++i) {
+    const Eigen::Vector3d ray = (c + square(rng) * u + square(rng) * v).normalized();
+    const double t = hit(ray);
+    if (std::isfinite(t)) tube.points.push_back((ray * (t + n(rng))).cast<float>());
   }
-  const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, ShapeFitConfig{});
+  for (int i = 0; i < 720; ++i) {
+    const Eigen::Vector3d dir = std::cos(2 * M_PI * i / 720) * u + std::sin(2 * M_PI * i / 720) * v;
+    double inside = 0, outside = reach;
+    for (int k = 0; k < 30; ++k) {
+      const double mid = (inside + outside) / 2;
+      (std::isfinite(hit((c + mid * dir).normalized())) ? inside : outside) = mid;
+    }
+    tube.rays.push_back((c + inside * dir).normalized());
+  }
+  return tube;
+}
+
+TEST(ShapeFitter, TubeIsACylinderAlongItsAxis) {
+  // 0.1 m across and 0.8 m long, across the line of sight 2 m away.
+  const Eigen::Vector3d c(0.0, 0.2, 2.0);
+  const Tube tube = tubeAt(c, Eigen::Vector3d::UnitX(), 0.05, 0.4, 0.003);
+  const auto fit = fitShape(tube.points, tube.rays, {OutlineKind::kRectangle}, ShapeFitConfig{});
   ASSERT_EQ(fit.shape, ShapeKind::kCylinder) << "seed " << kSeed;
   EXPECT_NEAR(fit.size.z(), 0.8, 0.03);
   EXPECT_NEAR(fit.size.x(), 0.1, 0.01);
   EXPECT_LT((fit.centre - c).norm(), 0.02);
   const Eigen::Vector3d axis = fit.orientation * Eigen::Vector3d::UnitZ();
   EXPECT_GT(std::abs(axis.x()), 0.99);
+}
+
+TEST(ShapeFitter, ATubeCutByTheImageBorderIsCentredOnWhatIsSeenOfIt) {
+  // 0.8 m long, 1.5 m away, turned 60 degrees into the scene, its far part beyond the image's right edge: the
+  // outline runs along the border there. Its centre along the axis is the middle of the points seen (the outline's
+  // span on the plane through the axis, border included, put it 7 % too far); whole, the middle of the tube.
+  const Eigen::Vector3d c(0.0, 0.2, 1.5);
+  const Eigen::Vector3d axis = Eigen::AngleAxisd(60 * M_PI / 180, Eigen::Vector3d::UnitY()) * Eigen::Vector3d::UnitX();
+  const double border = 0.1;  // x / z of the image's right edge
+  for (const bool cut : {false, true}) {
+    const Tube tube = tubeAt(c, axis, 0.05, 0.4, 0.003, cut ? border : std::numeric_limits<double>::infinity());
+    const ShapeFit fit = fitCylinder(tube.points, tube.rays);
+    ASSERT_EQ(fit.shape, ShapeKind::kCylinder) << (cut ? "cut" : "whole");
+    EXPECT_GT(std::abs((fit.orientation * Eigen::Vector3d::UnitZ()).dot(axis)), 0.99) << (cut ? "cut" : "whole");
+    EXPECT_NEAR(fit.centre.norm(), c.norm(), 0.03 * c.norm()) << (cut ? "cut" : "whole");
+    if (!cut) {
+      EXPECT_LT((fit.centre - c).norm(), 0.03);
+    }
+  }
 }
 
 TEST(ShapeFitter, FlatFacesOfDifferentShadingMakeABoxAlongThePointsAxes) {

@@ -202,7 +202,8 @@ Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eige
 }
 
 /// Cylinder lying along the points' main axis; diameter and length from the outline on the plane through
-/// the axis that faces the camera; the axis sits a radius behind the visible surface.
+/// the axis that faces the camera; the axis sits a radius behind the visible surface, its centre midway along
+/// the points.
 Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
@@ -222,8 +223,15 @@ Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const 
   std::tie(w0, w1) = span(outline, across);
   radius = (w1 - w0) / 2;
   const auto [l0, l1] = span(outline, axis);
+  // Along the axis the centre is the middle of the points (2nd to 98th percentile): the outline's span on this
+  // plane runs along the image border where the tube is cut by it, and is met at a grazing angle by the rays
+  // of a tube turned into the scene; both put the centre too far.
+  std::vector<double> along;
+  for (const auto& q : pts) along.push_back(q.dot(axis));
+  std::sort(along.begin(), along.end());
+  const double a0 = along[along.size() / 50], a1 = along[along.size() - 1 - along.size() / 50];
   const Eigen::Vector3d base = on_axis - axis * on_axis.dot(axis) - across * on_axis.dot(across);
-  fit.centre = base + axis * (l0 + l1) / 2 + across * (w0 + w1) / 2;
+  fit.centre = base + axis * (a0 + a1) / 2 + across * (w0 + w1) / 2;
   fit.size = Eigen::Vector3d(2 * radius, 2 * radius, l1 - l0);
   fit.orientation = frameWithZ(axis, across);
   std::vector<double> residuals;
@@ -462,6 +470,13 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere, unknown);
   chosen.features = std::move(features);
   return chosen;
+}
+
+ShapeFit fitCylinder(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays) {
+  std::vector<Eigen::Vector3d> pts;
+  for (const auto& q : points) pts.push_back(q.cast<double>());
+  if (pts.size() < 3) return ShapeFit{};
+  return fitCylinder(pts, pca(pts), outline_rays).fit;
 }
 
 }  // namespace underwater_stereo
