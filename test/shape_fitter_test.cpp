@@ -51,6 +51,33 @@ TEST(ShapeFitter, SphereFromItsVisibleCapAndSilhouette) {
   EXPECT_GT(fit.rmse_m, 0.003);
 }
 
+TEST(ShapeFitter, ASphereCutByTheImageBorderIsFittedToTheRestOfItsOutline) {
+  // A 0.5 m ball 1.2 m away, its right third beyond the image's right edge (x / z > 0.1): the outline runs along
+  // the border there. The cone through the rest of the outline is the whole ball's silhouette.
+  std::mt19937 rng(kSeed);
+  const Eigen::Vector3d c(0.0, 0.05, 1.2);
+  const double border = 0.1;
+  std::vector<Eigen::Vector3f> pts;
+  for (const auto& p : visibleSphere(c, 0.25, 0.005, rng)) {
+    if (p.x() / p.z() <= border) pts.push_back(p);
+  }
+  std::vector<Eigen::Vector3d> rays;
+  OutlineCues cues{OutlineKind::kCircle};
+  for (const auto& r : sphereOutline(c, 0.25)) {
+    const bool cut = r.x() / r.z() > border;
+    rays.push_back(cut ? Eigen::Vector3d(border, r.y() / r.z(), 1.0).normalized() : r);
+    cues.on_border.push_back(cut);
+  }
+  const auto fit = fitShape(pts, rays, cues, ShapeFitConfig{});
+  ASSERT_EQ(fit.shape, ShapeKind::kSphere);
+  EXPECT_LT((fit.centre - c).norm(), 0.02);
+  EXPECT_NEAR(fit.size.x(), 0.5, 0.02);
+  cues.on_border.clear();  // the border taken for the ball's own edge: the visible part's cone, too small and near
+  const auto unaware = fitShape(pts, rays, cues, ShapeFitConfig{});
+  EXPECT_LT(unaware.size.x(), 0.45);
+  EXPECT_LT(unaware.centre.norm(), c.norm() - 0.02);
+}
+
 TEST(ShapeFitter, TiltedPanelIsAPlaneWithItsOutlineSize) {
   std::mt19937 rng(kSeed);
   std::normal_distribution<double> n(0.0, 0.004);

@@ -89,7 +89,8 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
   cues.corners = static_cast<double>(corners.size());
   int on_border = 0;
   for (const cv::Point& p : c.contour) {
-    on_border += p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2;
+    cues.on_border.push_back(p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2);
+    on_border += cues.on_border.back();
   }
   cues.border_share = double(on_border) / c.contour.size();
   cv::Mat grey;

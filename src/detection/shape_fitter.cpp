@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
@@ -23,6 +24,11 @@ constexpr unsigned kRansacSeed = 1;
 /// between ray and normal >= this): closer to edge-on, a pixel of outline moves its point on the plane by
 /// metres (a near panel's outline reached 97 m), and a strip of points leaves the normal undetermined.
 constexpr double kMinIncidence = 0.25;
+/// A sphere's silhouette cone is fitted to the outline's own rays (off the image border) when there are this many,
+/// and kept when its half angle is under this (radians; a sphere filling a 60-degree view).
+constexpr std::size_t kMinConeRays = 20;
+constexpr double kMaxConeHalfAngle = 0.5;
+constexpr double kMaxConeGrowth = 2.0;
 
 struct Pca {
   Eigen::Vector3d mean;
@@ -146,16 +152,11 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
 }
 
 /// Sphere whose silhouette is the outline's cone: only its distance along the cone axis is fitted.
-Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
+/// Sphere whose silhouette is the cone of unit `axis` and `half_angle`: only its distance along the axis is fitted.
+Scored fitSphereInCone(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& axis, double half_angle) {
   Scored scored;
   ShapeFit& fit = scored.fit;
   fit.shape = ShapeKind::kSphere;
-  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-  for (const auto& r : rays) axis += r;
-  axis.normalize();
-  double half_angle = 0.0;
-  for (const auto& r : rays) half_angle += std::acos(std::clamp(r.dot(axis), -1.0, 1.0));
-  half_angle /= static_cast<double>(rays.size());
   const double s = std::sin(half_angle);
   auto cost = [&](double c) {
     double sum = 0.0;
@@ -199,6 +200,40 @@ Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eige
   fit.rmse_m = rms(residuals);
   scored.structure_m = structuredRmse(pts, residuals);
   return scored;
+}
+
+/// The outline's cone taken as its rays' mean direction and their mean angle from it.
+std::pair<Eigen::Vector3d, double> meanCone(const std::vector<Eigen::Vector3d>& rays) {
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  for (const auto& r : rays) axis += r;
+  axis.normalize();
+  double half_angle = 0.0;
+  for (const auto& r : rays) half_angle += std::acos(std::clamp(r.dot(axis), -1.0, 1.0));
+  return {axis, half_angle / static_cast<double>(rays.size())};
+}
+
+/// Sphere whose silhouette is the outline's mean cone.
+Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
+  const auto [axis, half_angle] = meanCone(rays);
+  return fitSphereInCone(pts, axis, half_angle);
+}
+
+/// The circular cone through the rays (least squares: r . w = 1 with w = axis / cos(half angle)), which a part of
+/// the outline determines as well as all of it: the silhouette of a sphere cut by the image border. Nothing when
+/// fewer than kMinConeRays rays, or when they do not pin down a cone narrower than kMaxConeHalfAngle.
+std::optional<std::pair<Eigen::Vector3d, double>> coneThrough(const std::vector<Eigen::Vector3d>& rays) {
+  if (rays.size() < kMinConeRays) return std::nullopt;
+  Eigen::Matrix3d rtr = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rt1 = Eigen::Vector3d::Zero();
+  for (const auto& r : rays) {
+    rtr += r * r.transpose();
+    rt1 += r;
+  }
+  const Eigen::Vector3d w = rtr.ldlt().solve(rt1);
+  if (!w.allFinite() || w.norm() <= 1.0) return std::nullopt;
+  const double half_angle = std::acos(1.0 / w.norm());
+  if (!(half_angle < kMaxConeHalfAngle)) return std::nullopt;
+  return std::make_pair(Eigen::Vector3d(w.normalized()), half_angle);
 }
 
 /// Cylinder lying along the points' main axis; diameter and length from the outline on the plane through
@@ -468,6 +503,21 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   else if (learnt == ShapeKind::kSphere && usable(sphere)) chosen = sphere.fit;
   else if (learnt == ShapeKind::kCylinder && usable(cylinder)) chosen = cylinder.fit;
   else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere, unknown);
+  if (chosen.shape == ShapeKind::kSphere && cues.on_border.size() == outline_rays.size()) {
+    // Cut by the image border, the outline's mean direction and angle are the visible part's: the cone through
+    // the rest of the outline is the whole sphere's.
+    std::vector<Eigen::Vector3d> silhouette;
+    for (std::size_t i = 0; i < outline_rays.size(); ++i) {
+      if (!cues.on_border[i]) silhouette.push_back(outline_rays[i]);
+    }
+    // Taken when it is at most kMaxConeGrowth times as wide as the visible part's mean cone (a small cap of a
+    // sphere says little about the rest) and the points lie on the sphere at least as well.
+    const auto cone = silhouette.size() < outline_rays.size() ? coneThrough(silhouette) : std::nullopt;
+    if (cone && cone->second <= kMaxConeGrowth * meanCone(outline_rays).second) {
+      const ShapeFit whole = fitSphereInCone(pts, cone->first, cone->second).fit;
+      if (whole.rmse_m <= chosen.rmse_m) chosen = whole;
+    }
+  }
   chosen.features = std::move(features);
   return chosen;
 }

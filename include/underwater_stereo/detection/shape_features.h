@@ -24,6 +24,7 @@ struct OutlineCues {
   double rect_fill = 1.0;     ///< contour area / that rectangle's area (1: a rectangle, pi/4: an ellipse)
   double corners = 0.0;       ///< vertices of the contour simplified to 2 % of its perimeter
   double border_share = 0.0;  ///< share of the contour's points on the image border (a cut outline)
+  std::vector<bool> on_border = {};  ///< per contour point: on the image border, not the object's edge (empty: none)
   double shading_spread = 0.0;     ///< grey-level standard deviation / mean over the object's pixels
   double shading_linear = 0.0;     ///< share of the grey-level variance a linear ramp across the region explains
   double shading_quadratic = 0.0;  ///< share a quadratic surface explains beyond the ramp (a lit ball's highlight)
