@@ -503,16 +503,17 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   else if (learnt == ShapeKind::kSphere && usable(sphere)) chosen = sphere.fit;
   else if (learnt == ShapeKind::kCylinder && usable(cylinder)) chosen = cylinder.fit;
   else chosen = handMadeDecision(pts, p, cues, config, plane, elongation >= config.min_elongation ? cylinder : sphere, unknown);
-  if (chosen.shape == ShapeKind::kSphere && cues.on_border.size() == outline_rays.size()) {
-    // Cut by the image border, the outline's mean direction and angle are the visible part's: the cone through
-    // the rest of the outline is the whole sphere's.
+  if (chosen.shape == ShapeKind::kSphere) {
+    // Its pose from the cone through the outline's own rays (off the image border), a sphere's exact silhouette:
+    // the mean cone (what the shape was decided on) is only near it, and where the border cuts the sphere it is
+    // the visible part's, too narrow and turned towards the image.
     std::vector<Eigen::Vector3d> silhouette;
     for (std::size_t i = 0; i < outline_rays.size(); ++i) {
-      if (!cues.on_border[i]) silhouette.push_back(outline_rays[i]);
+      if (cues.on_border.size() != outline_rays.size() || !cues.on_border[i]) silhouette.push_back(outline_rays[i]);
     }
-    // Taken when it is at most kMaxConeGrowth times as wide as the visible part's mean cone (a small cap of a
-    // sphere says little about the rest) and the points lie on the sphere at least as well.
-    const auto cone = silhouette.size() < outline_rays.size() ? coneThrough(silhouette) : std::nullopt;
+    // Taken when it is at most kMaxConeGrowth times as wide as the mean cone (a small cap of a sphere says little
+    // about the rest) and the points lie on the sphere at least as well.
+    const auto cone = coneThrough(silhouette);
     if (cone && cone->second <= kMaxConeGrowth * meanCone(outline_rays).second) {
       const ShapeFit whole = fitSphereInCone(pts, cone->first, cone->second).fit;
       if (whole.rmse_m <= chosen.rmse_m) chosen = whole;
