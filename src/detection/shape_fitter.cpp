@@ -25,7 +25,8 @@ constexpr unsigned kRansacSeed = 1;
 /// metres (a near panel's outline reached 97 m), and a strip of points leaves the normal undetermined.
 constexpr double kMinIncidence = 0.25;
 /// A sphere's silhouette cone is fitted to the outline's own rays (off the image border) when there are this many,
-/// and kept when its half angle is under this (radians; a sphere filling a 60-degree view).
+/// and kept when its half angle is under kMaxConeHalfAngle (radians; a sphere filling a 60-degree view) and at most
+/// kMaxConeGrowth times the outline's mean cone (a small cap of a sphere cut by the border says little of the rest).
 constexpr std::size_t kMinConeRays = 20;
 constexpr double kMaxConeHalfAngle = 0.5;
 constexpr double kMaxConeGrowth = 2.0;
@@ -151,7 +152,6 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
   return scored;
 }
 
-/// Sphere whose silhouette is the outline's cone: only its distance along the cone axis is fitted.
 /// Sphere whose silhouette is the cone of unit `axis` and `half_angle`: only its distance along the axis is fitted.
 Scored fitSphereInCone(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& axis, double half_angle) {
   Scored scored;

@@ -41,8 +41,8 @@
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/object_tracking.h"
 #include "underwater_stereo/ros_glue/pairing_monitor.h"
-#include "underwater_stereo/ros_glue/recent_problems.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
+#include "underwater_stereo/ros_glue/recent_problems.h"
 #include "underwater_stereo/ros_glue/stereo_input.h"
 
 namespace underwater_stereo {
