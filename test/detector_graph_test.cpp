@@ -15,8 +15,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <map>
 #include <mutex>
+#include <tuple>
 
 #include "ros_test_helpers.h"
 #include "underwater_stereo/DetectedObjectArray.h"
@@ -107,18 +109,30 @@ TEST(DetectorGraph, Live) {
     return n;
   };
   ASSERT_TRUE(waitFor([&] { return matched() >= 5; }, 80.0)) << "objects with ground truth and markers: " << matched();
-  std::lock_guard<std::mutex> lock(listener.mutex);
+  // The first kCheckedMessages matched messages, copied out: the checks below wait for TF frames, and must neither
+  // hold the listener's lock (its callbacks would queue behind them) nor grow with the messages still arriving.
+  constexpr int kCheckedMessages = 10;
+  using Matched =
+      std::tuple<ros::Time, DetectedObjectArrayConstPtr, GroundTruthConstPtr, visualization_msgs::MarkerArrayConstPtr>;
+  std::vector<Matched> checked;
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    for (const auto& [stamp, found] : listener.objects) {
+      const auto truth = listener.truths.find(stamp);
+      const auto markers = listener.markers.find(stamp);
+      if (truth == listener.truths.end() || markers == listener.markers.end()) continue;
+      checked.emplace_back(stamp, found, truth->second, markers->second);
+      if (static_cast<int>(checked.size()) == kCheckedMessages) break;
+    }
+  }
   int messages = 0, objects = 0;
-  for (const auto& [stamp, found] : listener.objects) {
-    const auto truth = listener.truths.find(stamp);
-    const auto markers = listener.markers.find(stamp);
-    if (truth == listener.truths.end() || markers == listener.markers.end()) continue;
+  for (const auto& [stamp, found, truth, markers] : checked) {
     ++messages;
-    objects += expectMatchesTruth(*found, *truth->second);
+    objects += expectMatchesTruth(*found, *truth);
     EXPECT_EQ(found->header.frame_id, "stereo_left_optical_frame");
     EXPECT_EQ(found->quality.status, ImageQuality::OK);
     // DELETEALL, then a shape and a label per object.
-    EXPECT_EQ(markers->second->markers.size(), 1 + 2 * found->objects.size());
+    EXPECT_EQ(markers->markers.size(), 1 + 2 * found->objects.size());
     // A TF frame per confirmed track (3 observations), named by its target or colour, at its filtered position.
     for (const DetectedObject& o : found->objects) {
       if (o.observations < 3) continue;
@@ -481,6 +495,8 @@ TEST_F(HandFedDetector, ExactSyncCountsImagesThatNeverPairAndWarns) {
 }
 
 int main(int argc, char** argv) {
+  // Line-buffered: a test that rostest kills at its time limit still shows how far it got in its log.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "detector_graph_test");
   return RUN_ALL_TESTS();
