@@ -74,6 +74,15 @@ std::pair<double, double> span(const std::vector<Eigen::Vector3d>& pts, const Ei
   return {lo, hi};
 }
 
+/// Extent of points along a unit direction from their 2nd to their 98th percentile (robust to stray points).
+std::pair<double, double> trimmedSpan(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& dir) {
+  std::vector<double> along;
+  along.reserve(pts.size());
+  for (const auto& q : pts) along.push_back(q.dot(dir));
+  std::sort(along.begin(), along.end());
+  return {along[along.size() / 50], along[along.size() - 1 - along.size() / 50]};
+}
+
 /// RMS of the model's residuals after averaging them over a 6x6 grid of viewing directions: stereo noise
 /// averages out, while a wrong model leaves a systematic pattern (a plane through a sphere's cap errs at
 /// the centre and the rim in opposite directions).
@@ -212,12 +221,6 @@ std::pair<Eigen::Vector3d, double> meanCone(const std::vector<Eigen::Vector3d>& 
   return {axis, half_angle / static_cast<double>(rays.size())};
 }
 
-/// Sphere whose silhouette is the outline's mean cone.
-Scored fitSphere(const std::vector<Eigen::Vector3d>& pts, const std::vector<Eigen::Vector3d>& rays) {
-  const auto [axis, half_angle] = meanCone(rays);
-  return fitSphereInCone(pts, axis, half_angle);
-}
-
 /// The circular cone through the rays (least squares: r . w = 1 with w = axis / cos(half angle)), which a part of
 /// the outline determines as well as all of it: the silhouette of a sphere cut by the image border. Nothing when
 /// fewer than kMinConeRays rays, or when they do not pin down a cone narrower than kMaxConeHalfAngle.
@@ -261,10 +264,7 @@ Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const 
   // Along the axis the centre is the middle of the points (2nd to 98th percentile): the outline's span on this
   // plane runs along the image border where the tube is cut by it, and is met at a grazing angle by the rays
   // of a tube turned into the scene; both put the centre too far.
-  std::vector<double> along;
-  for (const auto& q : pts) along.push_back(q.dot(axis));
-  std::sort(along.begin(), along.end());
-  const double a0 = along[along.size() / 50], a1 = along[along.size() - 1 - along.size() / 50];
+  const auto [a0, a1] = trimmedSpan(pts, axis);
   const Eigen::Vector3d base = on_axis - axis * on_axis.dot(axis) - across * on_axis.dot(across);
   fit.centre = base + axis * (a0 + a1) / 2 + across * (w0 + w1) / 2;
   fit.size = Eigen::Vector3d(2 * radius, 2 * radius, l1 - l0);
@@ -329,10 +329,7 @@ Scored fitBox(const std::vector<Eigen::Vector3d>& pts, const Pca& p) {
   fit.shape = ShapeKind::kBox;
   fit.centre = Eigen::Vector3d::Zero();
   for (int a = 0; a < 3; ++a) {
-    std::vector<double> along;
-    for (const auto& q : pts) along.push_back(q.dot(axes.col(a)));
-    std::sort(along.begin(), along.end());
-    const double lo = along[along.size() / 50], hi = along[along.size() - 1 - along.size() / 50];
+    const auto [lo, hi] = trimmedSpan(pts, axes.col(a));
     fit.centre += axes.col(a) * (lo + hi) / 2;
     fit.size[a] = hi - lo;
   }
@@ -490,7 +487,8 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
 
   const Scored plane = fitPlane(pts, p, outline_rays);
-  const Scored sphere = fitSphere(pts, outline_rays);
+  const auto [mean_axis, mean_half_angle] = meanCone(outline_rays);
+  const Scored sphere = fitSphereInCone(pts, mean_axis, mean_half_angle);  // what the shape is decided on
   const Scored cylinder = fitCylinder(pts, p, outline_rays);
   const double elongation = outlineElongation(outline_rays);
   std::vector<float> features = shapeFeatures(pts, p, cues, plane, sphere, cylinder, elongation);
@@ -514,7 +512,7 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
     // Taken when it is at most kMaxConeGrowth times as wide as the mean cone (a small cap of a sphere says little
     // about the rest) and the points lie on the sphere at least as well.
     const auto cone = coneThrough(silhouette);
-    if (cone && cone->second <= kMaxConeGrowth * meanCone(outline_rays).second) {
+    if (cone && cone->second <= kMaxConeGrowth * mean_half_angle) {
       const ShapeFit whole = fitSphereInCone(pts, cone->first, cone->second).fit;
       if (whole.rmse_m <= chosen.rmse_m) chosen = whole;
     }
