@@ -18,7 +18,7 @@ TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
   const sim::SceneSamplerConfig sampler;
   const sim::Renderer head(sim::sampleScene(kFirstSeed, sampler).scene);
   const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
-  int eligible = 0, found = 0, colour_right = 0, false_detections = 0;
+  int eligible = 0, found = 0, colour_right = 0, shape_judged = 0, shape_right = 0, false_detections = 0;
   for (int i = 0; i < kPairs; ++i) {
     const sim::SampledScene sampled = sim::sampleScene(kFirstSeed + i, sampler);
     const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
@@ -29,6 +29,10 @@ TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
       ++eligible;
       found += o.found;
       colour_right += o.found && o.detected_colour == o.colour;
+      if (o.found && o.visible_pixels >= tools::kMinShapePixels) {
+        ++shape_judged;
+        shape_right += o.detected_shape == o.shape;
+      }
     }
     false_detections += static_cast<int>(r.false_detections.size());
   }
@@ -36,5 +40,6 @@ TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
   ASSERT_GT(eligible, 15);
   EXPECT_GE(found, 0.6 * eligible) << found << " of " << eligible << " found";
   EXPECT_GE(colour_right, 0.65 * found) << colour_right << " of " << found << " named right";
+  EXPECT_GE(shape_right, 0.55 * shape_judged) << shape_right << " of " << shape_judged << " shapes named right";
   EXPECT_LE(false_detections, 1.5 * kPairs) << false_detections << " false in " << kPairs << " pairs";
 }

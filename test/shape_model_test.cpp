@@ -165,11 +165,27 @@ TEST(OutlineCues, OutlineAndShadingOfKnownRegions) {
   EXPECT_NEAR(round.aspect, 1.0, 0.03);
   EXPECT_EQ(round.border_share, 0.0);
   EXPECT_GT(round.shading_quadratic, 0.9);
+  EXPECT_LT(round.ellipse_residual, 0.01);
+  EXPECT_NEAR(round.quad_tolerance, 0.16, 0.03);  // a circle's sagitta over a quarter turn, over sqrt(area)
+  EXPECT_GT(round.hexagon_tolerance, 0.05);
   const Candidate panel = candidateOf(square, bgr, [](int u, int) { return 50 + 0.5 * u; });
   const OutlineCues flat = outlineCues(panel, bgr, square.size());
   EXPECT_NEAR(flat.rect_fill, 1.0, 0.03);
   EXPECT_NEAR(flat.aspect, 2.0, 0.05);
   EXPECT_EQ(flat.corners, 4.0);
+  EXPECT_GT(flat.ellipse_residual, 0.03);
+  EXPECT_LT(flat.quad_tolerance, 0.02);
+  EXPECT_LT(flat.hexagon_tolerance, 0.02);
+  // A hexagon (a box seen corner-on) is six-sided, not four.
+  cv::Mat hexagon = cv::Mat::zeros(400, 400, CV_8U);
+  std::vector<cv::Point> corners;
+  for (int k = 0; k < 6; ++k) corners.emplace_back(200 + 120 * std::cos(k * M_PI / 3), 200 + 120 * std::sin(k * M_PI / 3));
+  cv::fillConvexPoly(hexagon, corners, 255);
+  cv::Mat hexagon_bgr;
+  const Candidate hexagonal = candidateOf(hexagon, hexagon_bgr, [](int, int) { return 120.0; });
+  const OutlineCues six = outlineCues(hexagonal, hexagon_bgr, hexagon.size());
+  EXPECT_LT(six.hexagon_tolerance, 0.02);
+  EXPECT_GT(six.quad_tolerance, 0.1);
   EXPECT_GT(flat.shading_linear, 0.98);
   EXPECT_LT(flat.shading_quadratic, 0.02);
   // A region cut by the image border says so.
@@ -189,29 +205,42 @@ TEST(ShapeModel, KnownCloudsAreNamedRightByTheShippedModel) {
     OutlineCues cues;
     ShapeKind truth;
   };
+  // Outline cues of each shape as the simulator's uncut objects show them (medians of the shape model's training set).
   OutlineCues ball{OutlineKind::kCircle, 2.0};
   ball.circularity = 0.9;
   ball.rect_fill = M_PI / 4;
   ball.corners = 8;
   ball.shading_spread = 0.15;
   ball.shading_quadratic = 0.6;
+  ball.ellipse_residual = 0.01;
+  ball.quad_tolerance = 0.18;
+  ball.hexagon_tolerance = 0.15;
   OutlineCues panel{OutlineKind::kRectangle, 1.0};
   panel.circularity = M_PI / 4;
   panel.corners = 4;
   panel.shading_spread = 0.03;
   panel.shading_linear = 0.5;
+  panel.ellipse_residual = 0.095;
+  panel.quad_tolerance = 0.03;
+  panel.hexagon_tolerance = 0.02;
   OutlineCues tube{OutlineKind::kRectangle, 3.0};
   tube.aspect = 6.0;
   tube.circularity = 0.45;
   tube.corners = 4;
   tube.shading_spread = 0.12;
   tube.shading_quadratic = 0.5;
+  tube.ellipse_residual = 0.08;
+  tube.quad_tolerance = 0.16;
+  tube.hexagon_tolerance = 0.08;
   OutlineCues box{OutlineKind::kPolygon, 80.0};
   box.circularity = 0.75;
   box.rect_fill = 0.8;
   box.corners = 6;
   box.shading_spread = 0.25;
   box.shading_linear = 0.3;
+  box.ellipse_residual = 0.08;
+  box.quad_tolerance = 0.15;
+  box.hexagon_tolerance = 0.03;
   const std::vector<Case> cases{
       {"sphere", sphereCloud({0.2, 0.1, 2.0}, 0.15, rng), ball, ShapeKind::kSphere},
       {"plane", panelCloud({-0.2, 0.1, 2.5}, tilt, rng), panel, ShapeKind::kPlane},

@@ -64,6 +64,36 @@ void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
   cues.shading_quadratic = std::max(0.0, explained({0, 1, 2, 3, 4, 5}) - cues.shading_linear);
 }
 
+/// Mean |r - 1| of `points` in the frame of the ellipse fitted to them (r = 1 on it); 1 when none fits.
+double ellipseResidual(const std::vector<cv::Point>& points) {
+  if (points.size() < 6) return 1.0;
+  const cv::RotatedRect e = cv::fitEllipse(points);
+  const double a = e.size.width / 2, b = e.size.height / 2;
+  if (!(a > 0.5 && b > 0.5)) return 1.0;
+  const double c = std::cos(e.angle * M_PI / 180), s = std::sin(e.angle * M_PI / 180);
+  double sum = 0;
+  for (const cv::Point& p : points) {
+    const double dx = p.x - e.center.x, dy = p.y - e.center.y;
+    const double x = (c * dx + s * dy) / a, y = (-s * dx + c * dy) / b;
+    sum += std::abs(std::hypot(x, y) - 1);
+  }
+  return std::min(1.0, sum / points.size());
+}
+
+/// The smallest approxPolyDP tolerance at which the convex polygon `hull` keeps at most `vertices` vertices, over
+/// `scale` (bisection to 1/1024 of the largest tolerance tried, scale itself).
+double polygonTolerance(const std::vector<cv::Point>& hull, std::size_t vertices, double scale) {
+  if (hull.size() <= vertices || scale <= 0) return 0.0;
+  double lo = 0, hi = scale;
+  std::vector<cv::Point> simplified;
+  for (int i = 0; i < 10; ++i) {
+    const double mid = (lo + hi) / 2;
+    cv::approxPolyDP(hull, simplified, mid, true);
+    (simplified.size() <= vertices ? hi : lo) = mid;
+  }
+  return hi / scale;
+}
+
 }  // namespace
 
 OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame) {
@@ -93,6 +123,19 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
     on_border += cues.on_border.back();
   }
   cues.border_share = double(on_border) / c.contour.size();
+  std::vector<cv::Point> off_border;
+  for (std::size_t i = 0; i < c.contour.size(); ++i) {
+    if (!cues.on_border[i]) off_border.push_back(c.contour[i]);
+  }
+  cues.ellipse_residual = ellipseResidual(off_border.size() >= 6 ? off_border : c.contour);
+  // approxPolyDP keeps the first point as a vertex: start the hull at its point farthest from the centre (a corner).
+  const cv::Point2f centre = box.center;
+  const auto far = std::max_element(hull.begin(), hull.end(), [&](const cv::Point& a, const cv::Point& b) {
+    return cv::norm(cv::Point2f(a) - centre) < cv::norm(cv::Point2f(b) - centre);
+  });
+  std::rotate(hull.begin(), far, hull.end());
+  cues.quad_tolerance = polygonTolerance(hull, 4, std::sqrt(std::max(1.0, area)));
+  cues.hexagon_tolerance = polygonTolerance(hull, 6, std::sqrt(std::max(1.0, area)));
   cv::Mat grey;
   cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
   shadingFits(grey, c.mask, cues);
@@ -101,7 +144,8 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
 
 const std::vector<std::string>& shapeFeatureNames() {
   static const std::vector<std::string> names{
-      "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "log_face_contrast",
+      "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "ellipse_residual",
+      "quad_tolerance", "hexagon_tolerance", "log_face_contrast",
       "shading_spread", "shading_linear", "shading_quadratic", "plane_structure", "sphere_structure",
       "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
       "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};

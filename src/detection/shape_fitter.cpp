@@ -138,10 +138,50 @@ struct Scored {
   double structure_m = std::numeric_limits<double>::infinity();
 };
 
+/// The unit normal (towards the camera) of the plane through `pts` fitted where stereo measures: a plane's inverse
+/// depth is linear in the normalised image coordinates, 1/z = a x/z + b y/z + c (disparity is linear across the
+/// image), so (a, b, c) is the normal over the plane's distance. Fitted by least squares, then again without the
+/// points off it by more than 3 robust deviations. Unlike the points' least-variance direction, it is not turned
+/// by the depth noise, which grows with range and on a plain panel can exceed the panel's width (the panel then
+/// looked edge-on). Zero when the points do not determine it.
+Eigen::Vector3d disparityPlaneNormal(const std::vector<Eigen::Vector3d>& pts) {
+  std::vector<char> use(pts.size(), 1);
+  Eigen::Vector3d abc = Eigen::Vector3d::Zero();
+  for (int round = 0; round < 2; ++round) {
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (!use[i] || !(pts[i].z() > 0)) continue;
+      const Eigen::Vector3d r(pts[i].x() / pts[i].z(), pts[i].y() / pts[i].z(), 1.0);
+      ata += r * r.transpose();
+      atb += r / pts[i].z();
+      ++n;
+    }
+    if (n < 3) return Eigen::Vector3d::Zero();
+    const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
+    if (ldlt.info() != Eigen::Success || ata.determinant() <= 1e-12 * std::pow(ata.trace(), 3)) return Eigen::Vector3d::Zero();
+    abc = ldlt.solve(atb);
+    std::vector<double> residuals;
+    for (const auto& q : pts) {
+      if (q.z() > 0) residuals.push_back(std::abs(abc.dot(Eigen::Vector3d(q.x() / q.z(), q.y() / q.z(), 1.0)) - 1.0 / q.z()));
+    }
+    std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
+    const double limit = 3 * 1.4826 * residuals[residuals.size() / 2];
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      use[i] = pts[i].z() > 0 &&
+               std::abs(abc.dot(Eigen::Vector3d(pts[i].x() / pts[i].z(), pts[i].y() / pts[i].z(), 1.0)) - 1.0 / pts[i].z()) <= limit;
+    }
+  }
+  if (!abc.allFinite() || abc.norm() <= 0) return Eigen::Vector3d::Zero();
+  return -abc.normalized();  // a x + b y + c z = 1 has its normal (a, b, c) away from the camera
+}
+
 Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  Eigen::Vector3d n = p.axes.col(2);
+  Eigen::Vector3d n = disparityPlaneNormal(pts);
+  if (n.isZero()) n = p.axes.col(2);
   if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
   if (-n.dot(p.mean.normalized()) < kMinIncidence) return scored;  // seen nearly edge-on
   fit.shape = ShapeKind::kPlane;
@@ -151,7 +191,11 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std
   scored.structure_m = structuredRmse(pts, residuals);
   const std::vector<Eigen::Vector3d> outline = onPlane(rays, n, n.dot(p.mean));
   const std::vector<Eigen::Vector3d>& extent_pts = outline.size() >= 3 ? outline : pts;
-  const Eigen::Vector3d u = p.axes.col(0), v = n.cross(u);
+  // The points' longest direction within the plane (the second when depth noise made the longest one the depth).
+  Eigen::Vector3d u = p.axes.col(0) - p.axes.col(0).dot(n) * n;
+  if (u.norm() < 0.5) u = p.axes.col(1) - p.axes.col(1).dot(n) * n;
+  u.normalize();
+  const Eigen::Vector3d v = n.cross(u);
   const auto [u0, u1] = span(extent_pts, u);
   const auto [v0, v1] = span(extent_pts, v);
   const double depth = n.dot(p.mean);
@@ -437,6 +481,9 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
           static_cast<float>(cues.rect_fill),
           static_cast<float>(std::min(cues.corners, 50.0)),
           static_cast<float>(cues.border_share),
+          static_cast<float>(cues.ellipse_residual),
+          static_cast<float>(cues.quad_tolerance),
+          static_cast<float>(cues.hexagon_tolerance),
           static_cast<float>(std::log1p(std::max(0.0, cues.face_contrast))),
           static_cast<float>(cues.shading_spread),
           static_cast<float>(cues.shading_linear),

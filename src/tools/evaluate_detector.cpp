@@ -22,6 +22,8 @@
 
 #include "random_evaluation.h"
 #include "tool_helpers.h"
+#include <yaml-cpp/yaml.h>
+
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
@@ -33,14 +35,16 @@ using namespace underwater_stereo;
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
-    "                         [--json FILE] [--worst K DIR]\n"
+    "                         [--json FILE] [--worst K DIR] [--shape-rules]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--size WxH]\n"
     "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
     "    prints recall, colour and shape right, range and position errors and false detections per frame,\n"
     "    overall and by range, turbidity, water, brightness, colour and shape; --jobs J pairs at once;\n"
     "    --json FILE: every object (with the shape features of its detection: what learn_shapes learns from)\n"
-    "    and false detection; --worst K DIR: the K worst failures' left images.\n"
+    "    and false detection; --worst K DIR: the K worst failures' left images; --shape-rules: shapes by the\n"
+    "    hand-made rules, the config's shape.model_file not read (the records a new shape model learns from,\n"
+    "    also when the shape features changed and the old model is refused).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
 
@@ -319,13 +323,26 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
   return 0;
 }
 
+/// The configuration of `path` without its shape.model_file (the hand-made rules decide shapes).
+DetectorConfig withoutShapeModel(const std::string& path) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  if (root.IsMap() && root["shape"] && root["shape"].IsMap()) root["shape"].remove("model_file");
+  const std::size_t slash = path.find_last_of('/');
+  return parseDetectorConfig(root, slash == std::string::npos ? "." : path.substr(0, slash));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string config_path;
   int frames = 10;
   double rate = 2.0;
-  bool paper_brightness = false;
+  bool paper_brightness = false, shape_rules = false;
   RandomOptions random;
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
@@ -357,6 +374,7 @@ int main(int argc, char** argv) {
       }
       if (a == "--verbose") verbose = true;
       else if (a == "--paper-brightness") paper_brightness = true;
+      else if (a == "--shape-rules") shape_rules = true;
       else if (a == "--config") config_path = value();
       else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
       else if (a == "--rate") {
@@ -397,7 +415,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const DetectorConfig config = loadDetectorConfigFile(config_path);
+    const DetectorConfig config = shape_rules ? withoutShapeModel(config_path) : loadDetectorConfigFile(config_path);
     if (random.pairs > 0) return evaluateRandom(config, config_path, sampler, random);
     if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);
     return evaluateSceneFiles(config, scenes, frames, rate);

@@ -24,6 +24,13 @@ struct OutlineCues {
   double rect_fill = 1.0;     ///< contour area / that rectangle's area (1: a rectangle, pi/4: an ellipse)
   double corners = 0.0;       ///< vertices of the contour simplified to 2 % of its perimeter
   double border_share = 0.0;  ///< share of the contour's points on the image border (a cut outline)
+  /// Mean |r - 1| of the outline's points off the border in the frame of the ellipse fitted to them (r = 1 on
+  /// it): 0 for an ellipse (a sphere's outline), ~0.04 for a square.
+  double ellipse_residual = 0.0;
+  /// The smallest tolerance, over the square root of the area, at which the outline's hull simplifies to at most
+  /// 4 vertices (~0 for a panel or a box seen face-on, 0.16 for a circle) and to at most 6 (a box's hexagon).
+  double quad_tolerance = 0.0;
+  double hexagon_tolerance = 0.0;
   std::vector<bool> on_border = {};  ///< per contour point: on the image border, not the object's edge (empty: none)
   double shading_spread = 0.0;     ///< grey-level standard deviation / mean over the object's pixels
   double shading_linear = 0.0;     ///< share of the grey-level variance a linear ramp across the region explains
@@ -39,7 +46,7 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
 /// fits' evidence (residuals of the plane, sphere and cylinder fits relative to range, principal extents,
 /// depth spread against the outline's width, dominant planes' shares, the bulge of the points towards the
 /// camera, point count, range).
-constexpr int kShapeFeatureCount = 28;
+constexpr int kShapeFeatureCount = 31;
 const std::vector<std::string>& shapeFeatureNames();
 
 }  // namespace underwater_stereo
