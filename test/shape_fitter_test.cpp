@@ -201,6 +201,19 @@ TEST(ShapeFitter, TubeIsACylinderAlongItsAxis) {
   EXPECT_GT(std::abs(axis.x()), 0.99);
 }
 
+TEST(ShapeFitter, AFarTubeLiesAlongItsAxisThoughItsDepthNoiseExceedsItsLength) {
+  // 0.12 m across and 0.3 m long, 4.5 m away, across the line of sight and turned 30 degrees in the image; stereo's
+  // ~9 cm of depth noise there spreads its points further along the line of sight than along the tube.
+  const Eigen::Vector3d c(0.2, 0.1, 4.5);
+  const Eigen::Vector3d axis = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitX();
+  const Tube tube = tubeAt(c, axis, 0.06, 0.15, 0.09);
+  const ShapeFit fit = fitCylinder(tube.points, tube.rays);
+  ASSERT_EQ(fit.shape, ShapeKind::kCylinder);
+  EXPECT_GT(std::abs((fit.orientation * Eigen::Vector3d::UnitZ()).dot(axis)), 0.98);  // within 11 degrees
+  EXPECT_NEAR(fit.size.z(), 0.3, 0.05);
+  EXPECT_NEAR(fit.centre.norm(), c.norm(), 0.03 * c.norm());
+}
+
 TEST(ShapeFitter, ATubeCutByTheImageBorderIsCentredOnWhatIsSeenOfIt) {
   // 0.8 m long, 1.5 m away, turned 60 degrees into the scene, its far part beyond the image's right edge: the
   // outline runs along the border there. Its centre along the axis is the middle of the points seen (the outline's

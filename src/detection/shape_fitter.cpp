@@ -177,11 +177,12 @@ Eigen::Vector3d disparityPlaneNormal(const std::vector<Eigen::Vector3d>& pts) {
   return -abc.normalized();  // a x + b y + c z = 1 has its normal (a, b, c) away from the camera
 }
 
-Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+/// The plane of the points, its normal `surface` (disparityPlaneNormal; zero: their least-variance direction).
+Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
+                const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  Eigen::Vector3d n = disparityPlaneNormal(pts);
-  if (n.isZero()) n = p.axes.col(2);
+  Eigen::Vector3d n = surface.isZero() ? Eigen::Vector3d(p.axes.col(2)) : surface;
   if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
   if (-n.dot(p.mean.normalized()) < kMinIncidence) return scored;  // seen nearly edge-on
   fit.shape = ShapeKind::kPlane;
@@ -283,13 +284,29 @@ std::optional<std::pair<Eigen::Vector3d, double>> coneThrough(const std::vector<
   return std::make_pair(Eigen::Vector3d(w.normalized()), half_angle);
 }
 
-/// Cylinder lying along the points' main axis; diameter and length from the outline on the plane through
+/// The principal axes of `pts` with their depth noise taken out: each point moved along its ray onto the plane
+/// through their mean with normal `surface` (disparityPlaneNormal). Stereo's depth noise, growing with range, can make the line of
+/// sight the points' longest direction; the points' image positions are exact. A tube's visible half lies about the
+/// plane through its axis, so its longest direction there is the axis. `p` when no plane is determined.
+Pca alongSurface(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& n) {
+  if (n.isZero()) return p;
+  const double d = n.dot(p.mean);
+  std::vector<Eigen::Vector3d> on_plane;
+  for (const auto& q : pts) {
+    const double denom = n.dot(q);
+    if (std::abs(denom) >= kMinIncidence * q.norm() && d / denom > 0) on_plane.push_back(q * (d / denom));
+  }
+  return on_plane.size() >= 3 ? pca(on_plane) : p;
+}
+
+/// Cylinder lying along the points' main axis on their surface (alongSurface); diameter and length from the outline on the plane through
 /// the axis that faces the camera; the axis sits a radius behind the visible surface, its centre midway along
 /// the points.
-Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const std::vector<Eigen::Vector3d>& rays) {
+Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
+                   const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  const Eigen::Vector3d axis = p.axes.col(0);
+  const Eigen::Vector3d axis = alongSurface(pts, p, surface).axes.col(0);
   Eigen::Vector3d view = p.mean - p.mean.dot(axis) * axis;  // towards the object, across the axis
   view.normalize();
   const Eigen::Vector3d across = axis.cross(view).normalized();
@@ -533,10 +550,11 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   }
   if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
 
-  const Scored plane = fitPlane(pts, p, outline_rays);
+  const Eigen::Vector3d surface = disparityPlaneNormal(pts);
+  const Scored plane = fitPlane(pts, p, surface, outline_rays);
   const auto [mean_axis, mean_half_angle] = meanCone(outline_rays);
   const Scored sphere = fitSphereInCone(pts, mean_axis, mean_half_angle);  // what the shape is decided on
-  const Scored cylinder = fitCylinder(pts, p, outline_rays);
+  const Scored cylinder = fitCylinder(pts, p, surface, outline_rays);
   const double elongation = outlineElongation(outline_rays);
   std::vector<float> features = shapeFeatures(pts, p, cues, plane, sphere, cylinder, elongation);
   for (float& f : features) f = std::isfinite(f) ? f : 0.0f;  // a degenerate fit says nothing; never NaN to the model
@@ -572,7 +590,7 @@ ShapeFit fitCylinder(const std::vector<Eigen::Vector3f>& points, const std::vect
   std::vector<Eigen::Vector3d> pts;
   for (const auto& q : points) pts.push_back(q.cast<double>());
   if (pts.size() < 3) return ShapeFit{};
-  return fitCylinder(pts, pca(pts), outline_rays).fit;
+  return fitCylinder(pts, pca(pts), disparityPlaneNormal(pts), outline_rays).fit;
 }
 
 }  // namespace underwater_stereo
