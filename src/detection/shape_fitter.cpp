@@ -145,33 +145,37 @@ struct Scored {
 /// by the depth noise, which grows with range and on a plain panel can exceed the panel's width (the panel then
 /// looked edge-on). Zero when the points do not determine it.
 Eigen::Vector3d disparityPlaneNormal(const std::vector<Eigen::Vector3d>& pts) {
-  std::vector<char> use(pts.size(), 1);
+  std::vector<Eigen::Vector3d> image;  // (x/z, y/z, 1) of each point in front of the camera
+  std::vector<double> inverse_depth;
+  for (const auto& q : pts) {
+    if (!(q.z() > 0)) continue;
+    image.push_back(q / q.z());
+    inverse_depth.push_back(1.0 / q.z());
+  }
+  std::vector<char> use(image.size(), 1);
   Eigen::Vector3d abc = Eigen::Vector3d::Zero();
   for (int round = 0; round < 2; ++round) {
     Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
     Eigen::Vector3d atb = Eigen::Vector3d::Zero();
     int n = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      if (!use[i] || !(pts[i].z() > 0)) continue;
-      const Eigen::Vector3d r(pts[i].x() / pts[i].z(), pts[i].y() / pts[i].z(), 1.0);
-      ata += r * r.transpose();
-      atb += r / pts[i].z();
+    for (std::size_t i = 0; i < image.size(); ++i) {
+      if (!use[i]) continue;
+      ata += image[i] * image[i].transpose();
+      atb += image[i] * inverse_depth[i];
       ++n;
     }
-    if (n < 3) return Eigen::Vector3d::Zero();
     const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
-    if (ldlt.info() != Eigen::Success || ata.determinant() <= 1e-12 * std::pow(ata.trace(), 3)) return Eigen::Vector3d::Zero();
+    if (n < 3 || ldlt.info() != Eigen::Success || ata.determinant() <= 1e-12 * std::pow(ata.trace(), 3)) {
+      if (round == 0) return Eigen::Vector3d::Zero();
+      break;  // too few points left on it: the first round's plane
+    }
     abc = ldlt.solve(atb);
-    std::vector<double> residuals;
-    for (const auto& q : pts) {
-      if (q.z() > 0) residuals.push_back(std::abs(abc.dot(Eigen::Vector3d(q.x() / q.z(), q.y() / q.z(), 1.0)) - 1.0 / q.z()));
-    }
-    std::nth_element(residuals.begin(), residuals.begin() + residuals.size() / 2, residuals.end());
-    const double limit = 3 * 1.4826 * residuals[residuals.size() / 2];
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      use[i] = pts[i].z() > 0 &&
-               std::abs(abc.dot(Eigen::Vector3d(pts[i].x() / pts[i].z(), pts[i].y() / pts[i].z(), 1.0)) - 1.0 / pts[i].z()) <= limit;
-    }
+    std::vector<double> residuals(image.size());
+    for (std::size_t i = 0; i < image.size(); ++i) residuals[i] = std::abs(abc.dot(image[i]) - inverse_depth[i]);
+    std::vector<double> sorted = residuals;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double limit = 3 * 1.4826 * sorted[sorted.size() / 2];
+    for (std::size_t i = 0; i < image.size(); ++i) use[i] = residuals[i] <= limit;
   }
   if (!abc.allFinite() || abc.norm() <= 0) return Eigen::Vector3d::Zero();
   return -abc.normalized();  // a x + b y + c z = 1 has its normal (a, b, c) away from the camera
