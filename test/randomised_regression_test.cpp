@@ -40,6 +40,7 @@ TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
   ASSERT_GT(eligible, 15);
   EXPECT_GE(found, 0.6 * eligible) << found << " of " << eligible << " found";
   EXPECT_GE(colour_right, 0.65 * found) << colour_right << " of " << found << " named right";
+  ASSERT_GE(shape_judged, 10);
   EXPECT_GE(shape_right, 0.55 * shape_judged) << shape_right << " of " << shape_judged << " shapes named right";
   EXPECT_LE(false_detections, 1.5 * kPairs) << false_detections << " false in " << kPairs << " pairs";
 }

@@ -107,34 +107,39 @@ TEST(ShapeFitter, TiltedPanelIsAPlaneWithItsOutlineSize) {
 TEST(ShapeFitter, AFarPanelIsAPlaneThoughItsDepthNoiseExceedsItsWidth) {
   // A 0.3 x 0.2 m panel at 4.5 m: stereo's noise of ~1 px of disparity (inverse depth, 0.0045 per m) scatters its
   // points 9 cm along the line of sight, more than its width spreads them, so their least-variance direction lies
-  // in the panel and it looked edge-on (no plane fitted).
-  std::mt19937 rng(kSeed);
-  std::normal_distribution<double> inverse_depth_noise(0.0, 0.0045);
+  // in the panel and it looked edge-on (no plane fitted). Turned within its own plane too: its sides are measured
+  // along its points' longest direction with that noise taken out.
   const Eigen::Vector3d c(-0.3, 0.2, 4.5);
-  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  std::vector<Eigen::Vector3f> pts;
-  for (double u = -0.15; u <= 0.15; u += 0.006) {
-    for (double v = -0.1; v <= 0.1; v += 0.006) {
-      const Eigen::Vector3d q = c + rot * Eigen::Vector3d(u, v, 0);
-      pts.push_back((q / (1.0 + q.z() * inverse_depth_noise(rng))).cast<float>());
+  for (const double turn : {0.0, 0.5, 1.0, 1.57}) {
+    std::mt19937 rng(kSeed);
+    std::normal_distribution<double> inverse_depth_noise(0.0, 0.0045);
+    const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.35, Eigen::Vector3d::UnitY()) *
+                                 Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ())).toRotationMatrix();
+    std::vector<Eigen::Vector3f> pts;
+    for (double u = -0.15; u <= 0.15; u += 0.006) {
+      for (double v = -0.1; v <= 0.1; v += 0.006) {
+        const Eigen::Vector3d q = c + rot * Eigen::Vector3d(u, v, 0);
+        pts.push_back((q / (1.0 + q.z() * inverse_depth_noise(rng))).cast<float>());
+      }
     }
-  }
-  std::vector<Eigen::Vector3d> rays;
-  for (int i = 0; i < 100; ++i) {
-    const double t = -1 + 2 * i / 99.0;
-    for (const Eigen::Vector3d& local : {Eigen::Vector3d(0.15 * t, -0.1, 0), Eigen::Vector3d(0.15 * t, 0.1, 0),
-                                         Eigen::Vector3d(-0.15, 0.1 * t, 0), Eigen::Vector3d(0.15, 0.1 * t, 0)}) {
-      rays.push_back((c + rot * local).normalized());
+    std::vector<Eigen::Vector3d> rays;
+    for (int i = 0; i < 100; ++i) {
+      const double t = -1 + 2 * i / 99.0;
+      for (const Eigen::Vector3d& local : {Eigen::Vector3d(0.15 * t, -0.1, 0), Eigen::Vector3d(0.15 * t, 0.1, 0),
+                                           Eigen::Vector3d(-0.15, 0.1 * t, 0), Eigen::Vector3d(0.15, 0.1 * t, 0)}) {
+        rays.push_back((c + rot * local).normalized());
+      }
     }
+    ShapeFitConfig config;
+    config.plane_preference = 1.0;  // the hand-made rules: the better fit wins
+    const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, config);
+    ASSERT_EQ(fit.shape, ShapeKind::kPlane) << "turn " << turn << ", seed " << kSeed;
+    const Eigen::Vector3d normal = fit.orientation * Eigen::Vector3d::UnitZ();
+    EXPECT_GT(std::abs(normal.dot(rot * Eigen::Vector3d::UnitZ())), 0.97) << "turn " << turn;  // within 14 degrees
+    EXPECT_LT((fit.centre - c).norm(), 0.05) << "turn " << turn;
+    EXPECT_NEAR(std::max(fit.size.x(), fit.size.y()), 0.3, 0.03) << "turn " << turn;
+    EXPECT_NEAR(std::min(fit.size.x(), fit.size.y()), 0.2, 0.03) << "turn " << turn;
   }
-  ShapeFitConfig config;
-  config.plane_preference = 1.0;  // the hand-made rules: the better fit wins
-  const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, config);
-  ASSERT_EQ(fit.shape, ShapeKind::kPlane) << "seed " << kSeed;
-  const Eigen::Vector3d normal = fit.orientation * Eigen::Vector3d::UnitZ();
-  EXPECT_GT(std::abs(normal.dot(rot * Eigen::Vector3d::UnitZ())), 0.97);  // within 14 degrees
-  EXPECT_LT((fit.centre - c).norm(), 0.05);
-  EXPECT_NEAR(std::max(fit.size.x(), fit.size.y()), 0.3, 0.03);
 }
 
 /// What the cameras see of a closed tube `r` in radius and 2 `h` long centred at `c` along the unit `axis`: points

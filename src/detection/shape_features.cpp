@@ -156,7 +156,7 @@ const std::vector<std::string>& shapeFeatureNames() {
       "quad_tolerance", "hexagon_tolerance", "log_face_contrast",
       "shading_spread", "shading_linear", "shading_quadratic", "plane_structure", "sphere_structure",
       "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
-      "sphere_depth", "elongation", "plane_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};
+      "sphere_depth", "elongation", "surface_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};
   return names;
 }
 

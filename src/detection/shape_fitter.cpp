@@ -181,6 +181,21 @@ Eigen::Vector3d disparityPlaneNormal(const std::vector<Eigen::Vector3d>& pts) {
   return -abc.normalized();  // a x + b y + c z = 1 has its normal (a, b, c) away from the camera
 }
 
+/// The principal axes of `pts` with their depth noise taken out: each point moved along its ray onto the plane
+/// through their mean with normal `surface` (disparityPlaneNormal). Stereo's depth noise, growing with range, can make the line of
+/// sight the points' longest direction; the points' image positions are exact. A tube's visible half lies about the
+/// plane through its axis, so its longest direction there is the axis. `p` when no plane is determined.
+Pca alongSurface(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& n) {
+  if (n.isZero()) return p;
+  const double d = n.dot(p.mean);
+  std::vector<Eigen::Vector3d> on_plane;
+  for (const auto& q : pts) {
+    const double denom = n.dot(q);
+    if (std::abs(denom) >= kMinIncidence * q.norm() && d / denom > 0) on_plane.push_back(q * (d / denom));
+  }
+  return on_plane.size() >= 3 ? pca(on_plane) : p;
+}
+
 /// The plane of the points, its normal `surface` (disparityPlaneNormal; zero: their least-variance direction).
 Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
                 const std::vector<Eigen::Vector3d>& rays) {
@@ -196,10 +211,9 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eig
   scored.structure_m = structuredRmse(pts, residuals);
   const std::vector<Eigen::Vector3d> outline = onPlane(rays, n, n.dot(p.mean));
   const std::vector<Eigen::Vector3d>& extent_pts = outline.size() >= 3 ? outline : pts;
-  // The points' longest direction within the plane (the second when depth noise made the longest one the depth).
-  Eigen::Vector3d u = p.axes.col(0) - p.axes.col(0).dot(n) * n;
-  if (u.norm() < 0.5) u = p.axes.col(1) - p.axes.col(1).dot(n) * n;
-  u.normalize();
+  // The points' longest direction within the plane, their depth noise taken out.
+  Eigen::Vector3d u = alongSurface(pts, p, n).axes.col(0);
+  u = (u - u.dot(n) * n).normalized();
   const Eigen::Vector3d v = n.cross(u);
   const auto [u0, u1] = span(extent_pts, u);
   const auto [v0, v1] = span(extent_pts, v);
@@ -286,21 +300,6 @@ std::optional<std::pair<Eigen::Vector3d, double>> coneThrough(const std::vector<
   const double half_angle = std::acos(1.0 / w.norm());
   if (!(half_angle < kMaxConeHalfAngle)) return std::nullopt;
   return std::make_pair(Eigen::Vector3d(w.normalized()), half_angle);
-}
-
-/// The principal axes of `pts` with their depth noise taken out: each point moved along its ray onto the plane
-/// through their mean with normal `surface` (disparityPlaneNormal). Stereo's depth noise, growing with range, can make the line of
-/// sight the points' longest direction; the points' image positions are exact. A tube's visible half lies about the
-/// plane through its axis, so its longest direction there is the axis. `p` when no plane is determined.
-Pca alongSurface(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& n) {
-  if (n.isZero()) return p;
-  const double d = n.dot(p.mean);
-  std::vector<Eigen::Vector3d> on_plane;
-  for (const auto& q : pts) {
-    const double denom = n.dot(q);
-    if (std::abs(denom) >= kMinIncidence * q.norm() && d / denom > 0) on_plane.push_back(q * (d / denom));
-  }
-  return on_plane.size() >= 3 ? pca(on_plane) : p;
 }
 
 /// Cylinder lying along the points' main axis on their surface (alongSurface); diameter and length from the outline on the plane through
@@ -458,7 +457,8 @@ float relative(double value_m, double range) {
 }
 
 /// The features of shapeFeatureNames(): the outline and shading cues, then the fits' evidence.
-std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const OutlineCues& cues,
+std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
+                                 const OutlineCues& cues,
                                  const Scored& plane, const Scored& sphere, const Scored& cylinder, double elongation) {
   std::vector<double> ranges;
   for (const auto& q : pts) ranges.push_back(q.norm());
@@ -472,9 +472,9 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
   const double spread = depth[depth.size() * 9 / 10] - depth[depth.size() / 10];
   const double sphere_distance = sphere.fit.centre.norm(), radius = sphere.fit.size.x() / 2;
   const double width = sphere_distance > 0 ? 2 * radius * range / sphere_distance : 0.0;
-  // The points' bulge towards the camera: plane residuals of the inner half (by distance from the centroid
-  // within the plane) minus the outer half's.
-  Eigen::Vector3d n = p.axes.col(2);
+  // The points' bulge towards the camera: residuals from their plane in disparity (surface) of the inner half (by
+  // distance from the centroid within the plane) minus the outer half's.
+  Eigen::Vector3d n = surface.isZero() ? Eigen::Vector3d(p.axes.col(2)) : surface;
   if (n.dot(p.mean) > 0) n = -n;
   std::vector<std::pair<double, double>> radial;  // (distance in the plane, residual towards the camera)
   for (const auto& q : pts) {
@@ -560,7 +560,7 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   const Scored sphere = fitSphereInCone(pts, mean_axis, mean_half_angle);  // what the shape is decided on
   const Scored cylinder = fitCylinder(pts, p, surface, outline_rays);
   const double elongation = outlineElongation(outline_rays);
-  std::vector<float> features = shapeFeatures(pts, p, cues, plane, sphere, cylinder, elongation);
+  std::vector<float> features = shapeFeatures(pts, p, surface, cues, plane, sphere, cylinder, elongation);
   for (float& f : features) f = std::isfinite(f) ? f : 0.0f;  // a degenerate fit says nothing; never NaN to the model
   auto usable = [](const Scored& s) { return s.fit.shape != ShapeKind::kUnknown && s.fit.centre.allFinite(); };
   ShapeFit chosen = unknown;

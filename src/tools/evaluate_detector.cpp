@@ -24,6 +24,7 @@
 #include "tool_helpers.h"
 #include <yaml-cpp/yaml.h>
 
+#include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
@@ -325,15 +326,13 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
 
 /// The configuration of `path` without its shape.model_file (the hand-made rules decide shapes).
 DetectorConfig withoutShapeModel(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
-  if (root.IsMap() && root["shape"] && root["shape"].IsMap()) root["shape"].remove("model_file");
   const std::size_t slash = path.find_last_of('/');
-  return parseDetectorConfig(root, slash == std::string::npos ? "." : path.substr(0, slash));
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  return parseYamlFile(path, "detector configuration", [&dir](const YAML::Node& root) {
+    YAML::Node copy = YAML::Clone(root);
+    if (copy.IsMap() && copy["shape"] && copy["shape"].IsMap()) copy["shape"].remove("model_file");
+    return parseDetectorConfig(copy, dir);
+  });
 }
 
 }  // namespace
@@ -416,7 +415,10 @@ int main(int argc, char** argv) {
   }
   try {
     const DetectorConfig config = shape_rules ? withoutShapeModel(config_path) : loadDetectorConfigFile(config_path);
-    if (random.pairs > 0) return evaluateRandom(config, config_path, sampler, random);
+    // The records say how shapes were decided (their "config").
+    if (random.pairs > 0) {
+      return evaluateRandom(config, shape_rules ? config_path + " --shape-rules" : config_path, sampler, random);
+    }
     if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);
     return evaluateSceneFiles(config, scenes, frames, rate);
   } catch (const std::exception& e) {

@@ -25,7 +25,7 @@ struct OutlineCues {
   double corners = 0.0;       ///< vertices of the contour simplified to 2 % of its perimeter
   double border_share = 0.0;  ///< share of the contour's points on the image border (a cut outline)
   /// Mean |r - 1| of the outline's points off the border in the frame of the ellipse fitted to them (r = 1 on
-  /// it): 0 for an ellipse (a sphere's outline), ~0.04 for a square.
+  /// it): 0 for an ellipse (a sphere's outline), 0.04 for a regular hexagon, 0.10 for a square or a rectangle.
   double ellipse_residual = 0.0;
   /// The smallest tolerance, over the square root of the area, at which the outline's hull simplifies to at most
   /// 4 vertices (~0 for a panel or a box seen face-on, 0.16 for a circle) and to at most 6 (a box's hexagon).

@@ -53,7 +53,8 @@ struct ShapeFit {
 ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays,
                   const OutlineCues& cues, const ShapeFitConfig& config);
 
-/// The cylinder fitShape reports for points it names a cylinder: along the points' main axis, its diameter and
+/// The cylinder fitShape reports for points it names a cylinder: along the points' main axis once they are moved
+/// along their rays onto the plane fitted to them in disparity (their depth noise taken out), its diameter and
 /// length from the outline, its centre a radius behind the visible surface and midway along the points on the
 /// axis. ShapeKind::kUnknown for fewer than 3 points or when the outline does not reach the plane through the axis.
 ShapeFit fitCylinder(const std::vector<Eigen::Vector3f>& points, const std::vector<Eigen::Vector3d>& outline_rays);
