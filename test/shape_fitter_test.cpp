@@ -38,6 +38,19 @@ std::vector<Eigen::Vector3d> sphereOutline(const Eigen::Vector3d& c, double r) {
   return rays;
 }
 
+/// Rays of the outline of a `half_u` x `half_v` (half sides) panel centred at `c`, turned by `rot`.
+std::vector<Eigen::Vector3d> panelOutline(const Eigen::Vector3d& c, const Eigen::Matrix3d& rot, double half_u, double half_v) {
+  std::vector<Eigen::Vector3d> rays;
+  for (int i = 0; i < 100; ++i) {
+    const double t = -1 + 2 * i / 99.0;
+    for (const Eigen::Vector3d& local : {Eigen::Vector3d(half_u * t, -half_v, 0), Eigen::Vector3d(half_u * t, half_v, 0),
+                                         Eigen::Vector3d(-half_u, half_v * t, 0), Eigen::Vector3d(half_u, half_v * t, 0)}) {
+      rays.push_back((c + rot * local).normalized());
+    }
+  }
+  return rays;
+}
+
 }  // namespace
 
 TEST(ShapeFitter, SphereFromItsVisibleCapAndSilhouette) {
@@ -87,15 +100,7 @@ TEST(ShapeFitter, TiltedPanelIsAPlaneWithItsOutlineSize) {
   for (double u = -0.22; u <= 0.22; u += 0.01) {
     for (double v = -0.17; v <= 0.17; v += 0.01) pts.push_back((c + rot * Eigen::Vector3d(u, v, n(rng))).cast<float>());
   }
-  std::vector<Eigen::Vector3d> rays;
-  for (int i = 0; i < 100; ++i) {
-    const double t = -1 + 2 * i / 99.0;
-    for (const Eigen::Vector3d& local : {Eigen::Vector3d(0.25 * t, -0.2, 0), Eigen::Vector3d(0.25 * t, 0.2, 0),
-                                         Eigen::Vector3d(-0.25, 0.2 * t, 0), Eigen::Vector3d(0.25, 0.2 * t, 0)}) {
-      rays.push_back((c + rot * local).normalized());
-    }
-  }
-  const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, ShapeFitConfig{});
+  const auto fit = fitShape(pts, panelOutline(c, rot, 0.25, 0.2), {OutlineKind::kRectangle}, ShapeFitConfig{});
   ASSERT_EQ(fit.shape, ShapeKind::kPlane) << "seed " << kSeed;
   EXPECT_LT((fit.centre - c).norm(), 0.02);
   EXPECT_NEAR(std::max(fit.size.x(), fit.size.y()), 0.5, 0.015);
@@ -122,17 +127,9 @@ TEST(ShapeFitter, AFarPanelIsAPlaneThoughItsDepthNoiseExceedsItsWidth) {
         pts.push_back((q / (1.0 + q.z() * inverse_depth_noise(rng))).cast<float>());
       }
     }
-    std::vector<Eigen::Vector3d> rays;
-    for (int i = 0; i < 100; ++i) {
-      const double t = -1 + 2 * i / 99.0;
-      for (const Eigen::Vector3d& local : {Eigen::Vector3d(0.15 * t, -0.1, 0), Eigen::Vector3d(0.15 * t, 0.1, 0),
-                                           Eigen::Vector3d(-0.15, 0.1 * t, 0), Eigen::Vector3d(0.15, 0.1 * t, 0)}) {
-        rays.push_back((c + rot * local).normalized());
-      }
-    }
     ShapeFitConfig config;
     config.plane_preference = 1.0;  // the hand-made rules: the better fit wins
-    const auto fit = fitShape(pts, rays, {OutlineKind::kRectangle}, config);
+    const auto fit = fitShape(pts, panelOutline(c, rot, 0.15, 0.1), {OutlineKind::kRectangle}, config);
     ASSERT_EQ(fit.shape, ShapeKind::kPlane) << "turn " << turn << ", seed " << kSeed;
     const Eigen::Vector3d normal = fit.orientation * Eigen::Vector3d::UnitZ();
     EXPECT_GT(std::abs(normal.dot(rot * Eigen::Vector3d::UnitZ())), 0.97) << "turn " << turn;  // within 14 degrees
