@@ -125,16 +125,12 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
   cues.rect_fill = box.size.area() > 0 ? area / box.size.area() : 1.0;
   cv::approxPolyDP(c.contour, corners, 0.02 * perimeter, true);
   cues.corners = static_cast<double>(corners.size());
-  int on_border = 0;
+  std::vector<cv::Point> off_border;
   for (const cv::Point& p : c.contour) {
     cues.on_border.push_back(p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2);
-    on_border += cues.on_border.back();
+    if (!cues.on_border.back()) off_border.push_back(p);
   }
-  cues.border_share = double(on_border) / c.contour.size();
-  std::vector<cv::Point> off_border;
-  for (std::size_t i = 0; i < c.contour.size(); ++i) {
-    if (!cues.on_border[i]) off_border.push_back(c.contour[i]);
-  }
+  cues.border_share = double(c.contour.size() - off_border.size()) / c.contour.size();
   cues.ellipse_residual = ellipseResidual(off_border.size() >= 6 ? off_border : c.contour);
   // approxPolyDP keeps the first point as a vertex: start the hull at its point farthest from the centre (a corner).
   const cv::Point2f centre = box.center;

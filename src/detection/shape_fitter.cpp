@@ -196,13 +196,20 @@ Pca alongSurface(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Ei
   return on_plane.size() >= 3 ? pca(on_plane) : p;
 }
 
-/// The plane of the points, its normal `surface` (disparityPlaneNormal; zero: their least-variance direction).
-Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
+/// The points' plane's unit normal towards the camera: `surface` (disparityPlaneNormal), or their least-variance
+/// direction when that is undetermined (zero).
+Eigen::Vector3d facingNormal(const Pca& p, const Eigen::Vector3d& surface) {
+  const Eigen::Vector3d n = surface.isZero() ? Eigen::Vector3d(p.axes.col(2)) : surface;
+  return n.dot(p.mean) > 0 ? Eigen::Vector3d(-n) : n;
+}
+
+/// The plane of the points, its normal `surface` (disparityPlaneNormal; zero: their least-variance direction) and
+/// its sides along the longest direction of `along` (alongSurface).
+Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface, const Pca& along,
                 const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  Eigen::Vector3d n = surface.isZero() ? Eigen::Vector3d(p.axes.col(2)) : surface;
-  if (n.dot(p.mean) > 0) n = -n;  // normal towards the camera
+  const Eigen::Vector3d n = facingNormal(p, surface);
   if (-n.dot(p.mean.normalized()) < kMinIncidence) return scored;  // seen nearly edge-on
   fit.shape = ShapeKind::kPlane;
   std::vector<double> residuals;
@@ -212,7 +219,7 @@ Scored fitPlane(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eig
   const std::vector<Eigen::Vector3d> outline = onPlane(rays, n, n.dot(p.mean));
   const std::vector<Eigen::Vector3d>& extent_pts = outline.size() >= 3 ? outline : pts;
   // The points' longest direction within the plane, their depth noise taken out.
-  Eigen::Vector3d u = alongSurface(pts, p, n).axes.col(0);
+  Eigen::Vector3d u = along.axes.col(0);
   u = (u - u.dot(n) * n).normalized();
   const Eigen::Vector3d v = n.cross(u);
   const auto [u0, u1] = span(extent_pts, u);
@@ -302,14 +309,14 @@ std::optional<std::pair<Eigen::Vector3d, double>> coneThrough(const std::vector<
   return std::make_pair(Eigen::Vector3d(w.normalized()), half_angle);
 }
 
-/// Cylinder lying along the points' main axis on their surface (alongSurface); diameter and length from the outline on the plane through
+/// Cylinder lying along the longest direction of `along` (alongSurface); diameter and length from the outline on the plane through
 /// the axis that faces the camera; the axis sits a radius behind the visible surface, its centre midway along
 /// the points.
-Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Eigen::Vector3d& surface,
+Scored fitCylinder(const std::vector<Eigen::Vector3d>& pts, const Pca& p, const Pca& along,
                    const std::vector<Eigen::Vector3d>& rays) {
   Scored scored;
   ShapeFit& fit = scored.fit;
-  const Eigen::Vector3d axis = alongSurface(pts, p, surface).axes.col(0);
+  const Eigen::Vector3d axis = along.axes.col(0);
   Eigen::Vector3d view = p.mean - p.mean.dot(axis) * axis;  // towards the object, across the axis
   view.normalize();
   const Eigen::Vector3d across = axis.cross(view).normalized();
@@ -474,8 +481,7 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
   const double width = sphere_distance > 0 ? 2 * radius * range / sphere_distance : 0.0;
   // The points' bulge towards the camera: residuals from their plane in disparity (surface) of the inner half (by
   // distance from the centroid within the plane) minus the outer half's.
-  Eigen::Vector3d n = surface.isZero() ? Eigen::Vector3d(p.axes.col(2)) : surface;
-  if (n.dot(p.mean) > 0) n = -n;
+  const Eigen::Vector3d n = facingNormal(p, surface);
   std::vector<std::pair<double, double>> radial;  // (distance in the plane, residual towards the camera)
   for (const auto& q : pts) {
     const Eigen::Vector3d d = q - p.mean;
@@ -555,10 +561,11 @@ ShapeFit fitShape(const std::vector<Eigen::Vector3f>& points_f, const std::vecto
   if (pts.size() < config.min_points || outline_rays.size() < 5) return unknown;
 
   const Eigen::Vector3d surface = disparityPlaneNormal(pts);
-  const Scored plane = fitPlane(pts, p, surface, outline_rays);
+  const Pca along = alongSurface(pts, p, surface);
+  const Scored plane = fitPlane(pts, p, surface, along, outline_rays);
   const auto [mean_axis, mean_half_angle] = meanCone(outline_rays);
   const Scored sphere = fitSphereInCone(pts, mean_axis, mean_half_angle);  // what the shape is decided on
-  const Scored cylinder = fitCylinder(pts, p, surface, outline_rays);
+  const Scored cylinder = fitCylinder(pts, p, along, outline_rays);
   const double elongation = outlineElongation(outline_rays);
   std::vector<float> features = shapeFeatures(pts, p, surface, cues, plane, sphere, cylinder, elongation);
   for (float& f : features) f = std::isfinite(f) ? f : 0.0f;  // a degenerate fit says nothing; never NaN to the model
@@ -594,7 +601,8 @@ ShapeFit fitCylinder(const std::vector<Eigen::Vector3f>& points, const std::vect
   std::vector<Eigen::Vector3d> pts;
   for (const auto& q : points) pts.push_back(q.cast<double>());
   if (pts.size() < 3) return ShapeFit{};
-  return fitCylinder(pts, pca(pts), disparityPlaneNormal(pts), outline_rays).fit;
+  const Pca p = pca(pts);
+  return fitCylinder(pts, p, alongSurface(pts, p, disparityPlaneNormal(pts)), outline_rays).fit;
 }
 
 }  // namespace underwater_stereo
