@@ -142,6 +142,19 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
       ::testing::TempDir());
   EXPECT_DOUBLE_EQ(per_colour.colours.classes[0].min_confidence, 0.55);
   EXPECT_DOUBLE_EQ(per_colour.colours.classes[1].min_confidence, 0.0) << "the colour model's";
+  const DetectorConfig window_only = parseDetectorConfig(
+      YAML::Load("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
+                 "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: 0}"),
+      ::testing::TempDir());
+  EXPECT_DOUBLE_EQ(window_only.learned.water.object_level, 0.0);
+  try {
+    parseDetectorConfig(YAML::Load("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
+                                   "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: -3}"),
+                        ::testing::TempDir());
+    FAIL() << "a negative water_object_level was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("object_level must be in [0, 1000]"), std::string::npos) << e.what();
+  }
   try {
     parseDetectorConfig(YAML::Load("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
                                    "candidates: {source: learned}\ncolour_model: {file: roundtrip.colour_model.yml.gz}"),

@@ -83,6 +83,43 @@ TEST(WaterContrast, MeasuresTheLogRatioToTheLocalWater) {
   }
 }
 
+TEST(WaterContrast, AnObjectWiderThanTheWindowIsNotItsOwnWater) {
+  // A buoy 300 px across against a window of 5 / 32 of 640 = 100 px: the median over the window in its middle
+  // is the buoy itself. Left out of the water, its middle is measured against the water around it.
+  for (const Water& w : kWaters) {
+    const cv::Vec3b object = seen({20, 30, 220}, w.veil, 0.6);
+    const cv::Mat frame = frameWith(w.veil, object, {320, 240}, 150, 11);
+    const double k = 1.15 - 0.3 * 240 / 480.0;
+    WaterContrastConfig without;
+    without.object_level = 0;
+    const cv::Vec3b own = measureWaterContrast(frame, without).water.at<cv::Vec3b>(240, 320);
+    const WaterContrast wc = measureWaterContrast(frame, WaterContrastConfig{});
+    const cv::Vec3b water = wc.water.at<cv::Vec3b>(240, 320);
+    double own_off = 0;
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(water[c], w.veil[c] * k, 8.0) << w.name << " channel " << c;
+      own_off = std::max(own_off, std::abs(own[c] - w.veil[c] * k));
+      const double expected = std::log((object[c] * k + 4) / (w.veil[c] * k + 4));
+      const double measured = cv::mean(wc.contrast(cv::Rect(310, 230, 20, 20)))[c];
+      EXPECT_NEAR(measured, expected, 0.08) << w.name << " channel " << c;
+    }
+    EXPECT_GT(own_off, 30) << w.name << ": without leaving it out, the buoy is its own water";
+    // The whole buoy stands out, its middle as much as its rim.
+    EXPECT_GT(cv::mean(wc.saliency[0](cv::Rect(310, 230, 20, 20)))[0], 8) << w.name;
+  }
+}
+
+TEST(WaterContrast, RegionsWhoseHullsCoverMostOfTheFrameAreNotLeftOut) {
+  // A thin ring of buoy colour whose hull is more than half the frame: the water is not taken from far away
+  // (it may be the objects that are the exception, or the water): the window's median stays.
+  const cv::Vec3d water(90, 150, 70);
+  cv::Mat frame = frameWith(water, seen({20, 30, 220}, water, 0.6), {320, 240}, 0, 13);
+  cv::circle(frame, {320, 240}, 230, cv::Scalar(seen({20, 30, 220}, water, 0.6)), 8);
+  WaterContrastConfig without;
+  without.object_level = 0;
+  EXPECT_EQ(cv::norm(measureWaterContrast(frame, {}).water, measureWaterContrast(frame, without).water, cv::NORM_INF), 0.0);
+}
+
 TEST(WaterContrast, SaliencyIsNormalisedByTheFrame) {
   // The same object against the same water stands out alike in a dim and a bright exposure.
   const cv::Vec3d water(90, 150, 70);
@@ -111,7 +148,8 @@ TEST(WaterContrast, RejectsBadInput) {
   WaterContrastConfig bad;
   bad.background_scale = 0;
   bad.ratio_offset = -1;
-  EXPECT_EQ(bad.validate().size(), 2u);
+  bad.object_level = -1;
+  EXPECT_EQ(bad.validate().size(), 3u);
   EXPECT_THROW(measureWaterContrast(cv::Mat(10, 10, CV_8UC3), bad), std::invalid_argument);
   const cv::Mat img(20, 20, CV_8UC3, cv::Scalar(1, 2, 3));
   EXPECT_THROW(contrastAgainst(img, cv::Mat(10, 10, CV_8UC3), ContrastStats{}, {}), std::invalid_argument);

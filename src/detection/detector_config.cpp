@@ -221,14 +221,16 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     f.optional(n, "dark_objects", "candidates.", c.candidates.dark_objects);
   }
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
-    f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, levels, max_proposals}");
+    f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, max_proposals}");
   } else if (m) {
-    f.onlyKeys(m, "colour_model.", {"file", "min_confidence", "max_overlap", "background_scale", "levels", "max_proposals"});
+    f.onlyKeys(m, "colour_model.", {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels",
+                                        "max_proposals"});
     LearnedColourConfig& l = c.learned;
     f.optional(m, "file", "colour_model.", l.file);
     f.optional(m, "min_confidence", "colour_model.", l.min_confidence);
     f.optional(m, "max_overlap", "colour_model.", l.max_overlap);
     f.optional(m, "background_scale", "colour_model.", l.water.background_scale);
+    f.optional(m, "water_object_level", "colour_model.", l.water.object_level);
     if (const YAML::Node levels = m["levels"]) {
       l.proposals.levels.clear();
       for (std::size_t i = 0; levels.IsSequence() && i < levels.size(); ++i) {

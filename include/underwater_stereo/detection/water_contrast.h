@@ -23,6 +23,12 @@ struct WaterContrastConfig {
   double background_scale = 1.0 / 32.0;
   /// Offset added to pixel and water values before their ratio (keeps the dark noise floor from exploding).
   double ratio_offset = 4.0;
+  /// Objects left out of the water colour: regions that stand out from a first estimate of the water at this
+  /// saliency level (in the frame's own spreads, seen at a quarter of a window cell) are taken with their convex
+  /// hulls (an object larger than the window stands out only at its rim), and the water under them is filled in
+  /// smoothly from the water around them. 0: off (an object larger than the window is its own water in the
+  /// middle, so only its rim stands out).
+  double object_level = 32.0;
 
   std::vector<std::string> validate() const;
 };
