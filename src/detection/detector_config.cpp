@@ -223,8 +223,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
     f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, max_proposals}");
   } else if (m) {
-    f.onlyKeys(m, "colour_model.", {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels",
-                                        "max_proposals"});
+    f.onlyKeys(m, "colour_model.",
+               {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels", "max_proposals"});
     LearnedColourConfig& l = c.learned;
     f.optional(m, "file", "colour_model.", l.file);
     f.optional(m, "min_confidence", "colour_model.", l.min_confidence);
