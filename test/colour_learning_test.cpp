@@ -84,6 +84,17 @@ ColourModel learnt(const std::vector<LabelledFrame>& frames, const LearningOptio
   return learnColourModel(parts, o);
 }
 
+/// What parseDetectorConfig says when it refuses `yaml` (model files in the test's temporary folder); empty when
+/// it accepts it.
+std::string refusalOf(const std::string& yaml) {
+  try {
+    parseDetectorConfig(YAML::Load(yaml), ::testing::TempDir());
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 TEST(ColourLearning, RecoversAKnownColourModel) {
@@ -147,31 +158,20 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
                  "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: 0}"),
       ::testing::TempDir());
   EXPECT_DOUBLE_EQ(window_only.learned.water.object_level, 0.0);
-  try {
-    parseDetectorConfig(YAML::Load("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
-                                   "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: -3}"),
-                        ::testing::TempDir());
-    FAIL() << "a negative water_object_level was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("object_level must be in [0, 1000]"), std::string::npos) << e.what();
-  }
-  try {
-    parseDetectorConfig(YAML::Load("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
-                                   "candidates: {source: learned}\ncolour_model: {file: roundtrip.colour_model.yml.gz}"),
-                        ::testing::TempDir());
-    FAIL() << "a per-colour min_confidence of 1.5 was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("colours[0] (red).min_confidence"), std::string::npos) << e.what();
-  }
-  try {
-    parseDetectorConfig(YAML::Load("colours: [{name: red}, {name: orange}]\ncandidates: {source: learned}\n"
-                                   "colour_model: {file: roundtrip.colour_model.yml.gz, min_confidence: 2}"),
-                        ::testing::TempDir());
-    FAIL() << "a colour the model has not learnt was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'orange' is designated but the colour model"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("min_confidence"), std::string::npos) << e.what();
-  }
+  const std::string negative_level =
+      refusalOf("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
+                "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: -3}");
+  ASSERT_FALSE(negative_level.empty()) << "a negative water_object_level was accepted";
+  EXPECT_NE(negative_level.find("object_level must be in [0, 1000]"), std::string::npos) << negative_level;
+  const std::string too_sure = refusalOf("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
+                                         "candidates: {source: learned}\ncolour_model: {file: roundtrip.colour_model.yml.gz}");
+  ASSERT_FALSE(too_sure.empty()) << "a per-colour min_confidence of 1.5 was accepted";
+  EXPECT_NE(too_sure.find("colours[0] (red).min_confidence"), std::string::npos) << too_sure;
+  const std::string unlearnt = refusalOf("colours: [{name: red}, {name: orange}]\ncandidates: {source: learned}\n"
+                                         "colour_model: {file: roundtrip.colour_model.yml.gz, min_confidence: 2}");
+  ASSERT_FALSE(unlearnt.empty()) << "a colour the model has not learnt was accepted";
+  EXPECT_NE(unlearnt.find("'orange' is designated but the colour model"), std::string::npos) << unlearnt;
+  EXPECT_NE(unlearnt.find("min_confidence"), std::string::npos) << unlearnt;
   EXPECT_THROW(parseDetectorConfig(YAML::Load("colours: [{name: red}]\ncandidates: {source: learned}\n"
                                               "colour_model: {file: missing.yml.gz}"),
                                    ::testing::TempDir()),

@@ -183,15 +183,14 @@ constexpr int kObjectRounds = 3;
 constexpr int kMinWaterCells = 5;
 
 /// The pixels of `image` (the frame at about kFineCells pixels per window cell) that lie under an object: where they
-/// stand out from the estimate `water_cells` at config.object_level (in the spreads `saliencies` measures in),
+/// stand out from the water estimate `water` (of the image's size) at config.object_level (in the spreads
+/// `saliencies` measures in),
 /// each region large enough to be a window's median taken with its convex hull
 /// (an object larger than the window stands out only at its rim). Empty when they would cover more than
 /// kMaxObjectShare of the frame.
-cv::Mat objectsAgainst(const cv::Mat& image, const cv::Mat& water_cells, const ContrastOf& contrast,
+cv::Mat objectsAgainst(const cv::Mat& image, const cv::Mat& water, const ContrastOf& contrast,
                        const Saliencies& saliencies, const WaterContrastConfig& config) {
   const cv::Size fine = image.size();
-  cv::Mat water;
-  cv::resize(water_cells, water, fine, 0, 0, cv::INTER_LINEAR);
   cv::Mat salient(fine, CV_8UC1);
   for (int y = 0; y < fine.height; ++y) {
     const auto* i = image.ptr<cv::Vec3b>(y);
@@ -289,14 +288,12 @@ cv::Mat waterWithoutObjects(const cv::Mat& bgr, const cv::Mat& cells, const cv::
                                                    std::max(1, static_cast<int>(std::lround(bgr.rows * per_cell)))));
   const ContrastOf contrast(config.ratio_offset);
   cv::Mat water = medians, objects = cv::Mat::zeros(image.size(), CV_8UC1);
+  cv::Mat seen;  // the last estimate at the view's size
+  cv::resize(water, seen, image.size(), 0, 0, cv::INTER_LINEAR);
   // The frame's spreads against the first estimate serve every round (the water changes only under objects).
-  const Saliencies saliencies = [&] {
-    cv::Mat first;
-    cv::resize(medians, first, image.size(), 0, 0, cv::INTER_LINEAR);
-    return Saliencies(statsOf(image, first, contrast, 1, kFineStatsStep));
-  }();
+  const Saliencies saliencies(statsOf(image, seen, contrast, 1, kFineStatsStep));
   for (int round = 0; round < kObjectRounds; ++round) {
-    const cv::Mat found = objectsAgainst(image, water, contrast, saliencies, config);
+    const cv::Mat found = objectsAgainst(image, seen, contrast, saliencies, config);
     if (found.empty()) break;
     const int before = cv::countNonZero(objects);
     cv::bitwise_or(objects, found, objects);
@@ -304,6 +301,7 @@ cv::Mat waterWithoutObjects(const cv::Mat& bgr, const cv::Mat& cells, const cv::
     cv::Mat share;
     cv::resize(objects, share, cells.size(), 0, 0, cv::INTER_AREA);
     water = waterAround(cells, medians, share > 127);
+    cv::resize(water, seen, image.size(), 0, 0, cv::INTER_LINEAR);
   }
   return water;
 }
