@@ -162,7 +162,14 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
       refusalOf("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
                 "colour_model: {file: roundtrip.colour_model.yml.gz, water_object_level: -3}");
   ASSERT_FALSE(negative_level.empty()) << "a negative water_object_level was accepted";
-  EXPECT_NE(negative_level.find("object_level must be in [0, 1000]"), std::string::npos) << negative_level;
+  EXPECT_NE(negative_level.find("colour_model.water_object_level must be in [0, 1000]"), std::string::npos)
+      << "named by its key in the file: " << negative_level;
+  const std::string bad_window = refusalOf("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
+                                           "colour_model: {file: roundtrip.colour_model.yml.gz, background_scale: 2, "
+                                           "levels: [], max_proposals: 0}");
+  for (const char* key : {"colour_model.background_scale must", "colour_model.levels: 1 to 16", "colour_model.max_proposals must"}) {
+    EXPECT_NE(bad_window.find(key), std::string::npos) << key << " not in: " << bad_window;
+  }
   const std::string too_sure = refusalOf("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
                                          "candidates: {source: learned}\ncolour_model: {file: roundtrip.colour_model.yml.gz}");
   ASSERT_FALSE(too_sure.empty()) << "a per-colour min_confidence of 1.5 was accepted";
@@ -288,6 +295,19 @@ TEST(ColourLearning, AModelOfEarlierFeaturesReadsTheirColumns) {
   EXPECT_EQ(c.learned.model->classify(features).size(), 3u);
   EXPECT_THROW(c.learned.model->classify(cv::Mat::zeros(3, 30, CV_32F)), std::invalid_argument)
       << "rows of the wrong width";
+}
+
+// config/detector.yaml says its values are the defaults: its colour_model settings are the core's, so a config
+// that leaves a key out gets what the file shows.
+TEST(ColourLearning, TheDefaultConfigFileHoldsTheCoresDefaults) {
+  const LearnedColourConfig file = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml").learned;
+  const LearnedColourConfig core;
+  EXPECT_DOUBLE_EQ(file.min_confidence, core.min_confidence);
+  EXPECT_DOUBLE_EQ(file.max_overlap, core.max_overlap);
+  EXPECT_DOUBLE_EQ(file.water.background_scale, core.water.background_scale);
+  EXPECT_DOUBLE_EQ(file.water.object_level, core.water.object_level);
+  EXPECT_EQ(file.proposals.levels, core.proposals.levels);
+  EXPECT_EQ(file.proposals.max_proposals, core.proposals.max_proposals);
 }
 
 TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {

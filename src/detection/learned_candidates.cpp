@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "underwater_stereo/detection/image_checks.h"
 
@@ -66,6 +67,20 @@ void cutAtItsEdge(const WaterContrast& contrast, BlobProposal& b) {
   b.level = level;
 }
 
+/// A problem of the water's or the proposals' settings named by its key in the configuration file
+/// (colour_model.background_scale, not the core's water.background_scale).
+std::string asYamlKey(const std::string& problem) {
+  static const std::pair<const char*, const char*> kKeys[] = {{"water.background_scale", "background_scale"},
+                                                              {"water.object_level", "water_object_level"},
+                                                              {"proposals.levels", "levels"},
+                                                              {"proposals.max_proposals", "max_proposals"}};
+  for (const auto& [core, yaml] : kKeys) {
+    const std::string prefix = core;
+    if (problem.compare(0, prefix.size(), prefix) == 0) return "colour_model." + std::string(yaml) + problem.substr(prefix.size());
+  }
+  return "colour_model." + problem;
+}
+
 std::string formatted(const char* format, double a, double b) {
   char text[96];
   std::snprintf(text, sizeof(text), format, a, b);
@@ -106,8 +121,8 @@ std::vector<std::string> LearnedColourConfig::validate() const {
   std::vector<std::string> p;
   if (!(min_confidence > 0 && min_confidence <= 1)) p.push_back("colour_model.min_confidence must be in (0, 1]");
   if (!(max_overlap >= 0 && max_overlap <= 1)) p.push_back("colour_model.max_overlap must be in [0, 1]");
-  for (const auto& s : water.validate()) p.push_back("colour_model." + s);
-  for (const auto& s : proposals.validate()) p.push_back("colour_model." + s);
+  for (const auto& s : water.validate()) p.push_back(asYamlKey(s));
+  for (const auto& s : proposals.validate()) p.push_back(asYamlKey(s));
   return p;
 }
 
