@@ -190,3 +190,20 @@ speed: fast
                std::invalid_argument);
   EXPECT_THROW(loadDetectorConfigFile("/nonexistent.yaml"), std::invalid_argument);
 }
+
+// A tool's edit of the file (evaluate_detector --shape-rules leaves the shape model out) changes only what it
+// edits: the colour model next to the file is still found.
+TEST(DetectorConfig, AnEditedFileKeepsItsFolder) {
+  const DetectorConfig as_is = defaultConfig();
+  const DetectorConfig edited = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml", [](YAML::Node& root) {
+    root["shape"].remove("model_file");
+  });
+  EXPECT_TRUE(as_is.shape.model);
+  EXPECT_FALSE(edited.shape.model);
+  ASSERT_TRUE(edited.learned.model) << "colour_model.file found beside the file";
+  EXPECT_EQ(edited.learned.file, as_is.learned.file);
+  EXPECT_THROW(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml",
+                                      [](YAML::Node& root) { root["colour_model"]["min_confidence"] = 2; }),
+               std::invalid_argument)
+      << "the edit is validated like the file";
+}

@@ -280,11 +280,15 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   return c;
 }
 
-DetectorConfig loadDetectorConfigFile(const std::string& path) {
+DetectorConfig loadDetectorConfigFile(const std::string& path, const std::function<void(YAML::Node&)>& edit) {
   const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "" : path.substr(0, slash);
-  return parseYamlFile(path, "detector configuration",
-                       [&dir](const YAML::Node& root) { return parseDetectorConfig(root, dir.empty() ? "." : dir); });
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  return parseYamlFile(path, "detector configuration", [&](const YAML::Node& root) {
+    if (!edit) return parseDetectorConfig(root, dir);
+    YAML::Node copy = YAML::Clone(root);
+    edit(copy);
+    return parseDetectorConfig(copy, dir);
+  });
 }
 
 DetectorConfig scaledForSearch(const DetectorConfig& config) {

@@ -24,7 +24,6 @@
 #include "tool_helpers.h"
 #include <yaml-cpp/yaml.h>
 
-#include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
@@ -326,12 +325,8 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
 
 /// The configuration of `path` without its shape.model_file (the hand-made rules decide shapes).
 DetectorConfig withoutShapeModel(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
-  return parseYamlFile(path, "detector configuration", [&dir](const YAML::Node& root) {
-    YAML::Node copy = YAML::Clone(root);
-    if (copy.IsMap() && copy["shape"] && copy["shape"].IsMap()) copy["shape"].remove("model_file");
-    return parseDetectorConfig(copy, dir);
+  return loadDetectorConfigFile(path, [](YAML::Node& root) {
+    if (root.IsMap() && root["shape"] && root["shape"].IsMap()) root["shape"].remove("model_file");
   });
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 /// @file Configuration of the whole detection pipeline, as config/detector.yaml holds it.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -71,8 +72,10 @@ const std::vector<DetectorTunable>& detectorTunables();
 /// @throw std::invalid_argument listing every problem (unknown keys, wrong types, invalid values, a colour
 /// model that cannot be read or lacks a designated colour).
 DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& base_dir = "");
+/// `edit`, when given, changes a copy of the file's YAML before it is parsed (a tool's override, e.g. a key left
+/// out); relative files are still found in the file's folder.
 /// @throw std::invalid_argument when the file cannot be read or is invalid.
-DetectorConfig loadDetectorConfigFile(const std::string& path);
+DetectorConfig loadDetectorConfigFile(const std::string& path, const std::function<void(YAML::Node&)>& edit = {});
 
 /// The colour and candidate settings for a frame scaled by config.search_scale: kernels, blur and areas
 /// scaled with it (blur kept odd).
