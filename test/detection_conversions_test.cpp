@@ -32,6 +32,7 @@ DetectionResult twoObjects() {
   b.shape = ShapeKind::kCylinder;
   b.position_m = Eigen::Vector3d(0.3, 0.0, 3.0);
   b.points.resize(5);
+  b.cut_by_border = true;
   r.objects = {a, b};
   r.quality.mean_brightness = 90;
   return r;
@@ -66,6 +67,8 @@ TEST(DetectionConversions, ObjectsMarkersCloudAndTransformsCarryEveryObject) {
   EXPECT_EQ(objects.objects[1].id, 1U);
   EXPECT_EQ(objects.objects[0].roi.width, 60U);
   EXPECT_NEAR(objects.objects[0].range, 2.5522, 1e-3);
+  EXPECT_FALSE(objects.objects[0].cut_by_border);
+  EXPECT_TRUE(objects.objects[1].cut_by_border);
   EXPECT_NEAR(objects.quality.mean_brightness, 90, 1e-6);
   const auto markers = ros_glue::toMarkers(r, h);
   ASSERT_EQ(markers.markers.size(), 5U);

@@ -18,6 +18,7 @@ TEST(DetectionJson, WritesTheMessageFieldNamesEscapesStringsAndNullsNonFiniteNum
   d.range_m = 2.5;
   d.roi = cv::Rect(10, 20, 30, 40);
   d.confidence = 0.9;
+  d.cut_by_border = true;
   QualityReport q;
   q.mean_brightness = 97.5;
   const std::string line = detectionJson("a\\b.png", 3, d, q, true);
@@ -26,7 +27,7 @@ TEST(DetectionJson, WritesTheMessageFieldNamesEscapesStringsAndNullsNonFiniteNum
        {"\"file\": \"a\\\\b.png\"", "\"id\": 3", "\"colour\": \"red \\\"buoy\\\"\"", "\"measured_colour\": [1, 0.2, 0]",
         "\"shape\": \"sphere\"", "\"outline\": \"circle\"", "\"size\": [0.25, 0.25, 0.25]", "\"range\": 2.5",
         "\"position\": [-0.5, 0.1, null]", "\"orientation\": [0, 0, 0, 1]", "\"roi\": [10, 20, 30, 40]",
-        "\"confidence\": 0.9", "\"quality\": {\"status\": \"OK\", \"mean_brightness\": 97.5"}) {
+        "\"confidence\": 0.9", "\"cut_by_border\": true", "\"quality\": {\"status\": \"OK\", \"mean_brightness\": 97.5"}) {
     EXPECT_NE(line.find(expected), std::string::npos) << expected << " in " << line;
   }
   const std::string flat = detectionJson("x.jpg", 0, d, q, false);

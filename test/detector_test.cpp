@@ -57,8 +57,29 @@ TEST(Detector, FindsBothBuoysWithRangeAndPositionWithin3Percent) {
     EXPECT_GT(d->confidence, 0.0);
     EXPECT_LE(d->confidence, 1.0);
     EXPECT_TRUE(gt.roi_left.contains((d->roi.tl() + d->roi.br()) / 2)) << gt.name;
+    EXPECT_FALSE(d->cut_by_border) << gt.name;
   }
   EXPECT_GT(r.timings.total_ms, 0.0);
+}
+
+// A buoy partly out of view is reported as cut by the border (its centre is partly a guess); the whole one is not.
+TEST(Detector, ABuoyPartlyOutOfViewIsReportedCutByTheBorder) {
+  sim::Scene scene = twoBuoys();
+  scene.objects[0].position_m.x() = 1.3;  // the red buoy at 2.5 m, over the right edge of the 640x400 view
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const cv::Rect red = pair.ground_truth[0].roi_left;
+  ASSERT_EQ(red.br().x, pair.left.cols) << "the scene puts the red buoy over the right edge " << red;
+  ASSERT_GT(red.width, 20) << "and partly in view";
+  const DetectionResult r = Detector(defaultConfig(), renderer.calibration()).detect(pair.left, pair.right);
+  for (const auto& gt : pair.ground_truth) {
+    const auto d = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& o) { return o.colour == gt.colour; });
+    ASSERT_NE(d, r.objects.end()) << gt.name;
+    EXPECT_EQ(d->cut_by_border, gt.name == "red_buoy") << gt.name;
+  }
+  for (const Detection& d : Detector(defaultConfig()).detect2d(pair.left).objects) {
+    EXPECT_EQ(d.cut_by_border, d.colour == "red") << "2D alike: " << d.colour;
+  }
 }
 
 // The nodelet's workers share one detector (OpenCV single-threaded, as the nodelet runs them: with its

@@ -49,12 +49,14 @@ TEST(Messages, DetectedObjectArrayRoundTrips) {
   o.confidence = 0.9F;
   o.num_points = 4242;
   o.fit_rmse = 0.004F;
+  o.cut_by_border = true;
   in.objects.push_back(o);
   in.objects.push_back(o);
   const auto out = roundTrip(in);
   EXPECT_EQ(out, in);
   EXPECT_EQ(out.objects[1].shape, "cylinder");
   EXPECT_EQ(out.objects[1].outline, "rectangle");
+  EXPECT_TRUE(out.objects[1].cut_by_border);
 }
 
 TEST(Messages, GroundTruthRoundTrips) {

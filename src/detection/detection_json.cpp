@@ -59,7 +59,7 @@ std::string detectionJson(const std::string& file, int id, const Detection& d, c
       << array({d.measured_bgr[2] / 255.0, d.measured_bgr[1] / 255.0, d.measured_bgr[0] / 255.0})
       << ", \"outline\": " << quoted(outlineName(d.outline))
       << ", \"roi\": " << array({double(d.roi.x), double(d.roi.y), double(d.roi.width), double(d.roi.height)})
-      << ", \"confidence\": " << number(d.confidence);
+      << ", \"confidence\": " << number(d.confidence) << ", \"cut_by_border\": " << (d.cut_by_border ? "true" : "false");
   if (with_3d) {
     out << ", \"shape\": " << quoted(shapeName(d.shape))
         << ", \"size\": " << array({d.size_m.x(), d.size_m.y(), d.size_m.z()})

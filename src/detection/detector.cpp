@@ -5,6 +5,7 @@
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/object_pieces.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
+#include "underwater_stereo/detection/shape_features.h"
 #include "underwater_stereo/detection/stopwatch.h"
 #include "underwater_stereo/detection/work_on_threads.h"
 
@@ -240,12 +242,13 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
 }
 
 /// `left_roi`: BGR8 of the raw left image over c.roi.
-Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const DetectorConfig& config) {
+Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const cv::Size& frame, const DetectorConfig& config) {
   Detection d;
   d.colour = config.colours.classes[c.colour_index].name;
   d.outline = c.outline;
   d.roi = c.roi;
   d.contour = c.contour;
+  d.cut_by_border = std::any_of(c.contour.begin(), c.contour.end(), [&](const cv::Point& p) { return onImageBorder(p, frame); });
   d.measured_bgr = cv::mean(left_roi, c.mask);
   d.confidence = c.colour_fraction;
   return d;
@@ -312,7 +315,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
   result.quality = front.quality;
   result.rejected = front.rejected;
-  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame.bgr(c.roi), config_));
+  for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame.bgr(c.roi), frame.size(), config_));
   result.timings.total_ms = total.lapMs();
   return result;
 }
@@ -338,7 +341,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     return std::nullopt;
   }
   const cv::Mat left_roi = left.bgr(c.roi);
-  Detection d = describe2d(c, left_roi, config_);
+  Detection d = describe2d(c, left_roi, left.size(), config_);
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
   ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), outlineCues(c, left_roi, left.size()), config_.shape);
   placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration());

@@ -104,6 +104,10 @@ double polygonTolerance(const std::vector<cv::Point>& hull, std::size_t vertices
 
 }  // namespace
 
+bool onImageBorder(const cv::Point& p, const cv::Size& frame) {
+  return p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2;
+}
+
 OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame) {
   if (c.contour.size() < 3) throw std::invalid_argument("outlineCues: contour of fewer than 3 points");
   if (bgr_roi.type() != CV_8UC3 || bgr_roi.size() != c.roi.size() || c.mask.size() != c.roi.size() ||
@@ -127,7 +131,7 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
   cues.corners = static_cast<double>(corners.size());
   std::vector<cv::Point> off_border;
   for (const cv::Point& p : c.contour) {
-    cues.on_border.push_back(p.x <= 1 || p.y <= 1 || p.x >= frame.width - 2 || p.y >= frame.height - 2);
+    cues.on_border.push_back(onImageBorder(p, frame));
     if (!cues.on_border.back()) off_border.push_back(p);
   }
   cues.border_share = double(c.contour.size() - off_border.size()) / c.contour.size();

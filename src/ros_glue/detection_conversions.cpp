@@ -86,6 +86,7 @@ DetectedObjectArray toObjectsMsg(const DetectionResult& result, const std_msgs::
     o.confidence = static_cast<float>(d.confidence);
     o.num_points = static_cast<std::uint32_t>(d.points.size());
     o.fit_rmse = static_cast<float>(d.fit_rmse_m);
+    o.cut_by_border = d.cut_by_border;
     msg.objects.push_back(o);
   }
   return msg;

@@ -82,7 +82,7 @@ DetectedObjectArray ObjectTracking::track(DetectionResult& result, const std_msg
     o.shape = d.shape;
     o.size_m = d.size_m;
     o.target = match.target;
-    o.cut_by_border = d.roi.x <= 0 || d.roi.y <= 0 || d.roi.br().x >= left.width || d.roi.br().y >= left.height;
+    o.cut_by_border = d.cut_by_border;
     observations.push_back(o);
     kept.push_back(std::move(d));
   }

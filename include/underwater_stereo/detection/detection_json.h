@@ -12,7 +12,7 @@ namespace underwater_stereo {
 std::string qualityJson(const QualityReport& quality);
 
 /// One line: {"file": .., "id": .., "colour": .., "measured_colour": [r, g, b] (0-1), "outline": ..,
-/// "roi": [x, y, width, height], "confidence": .., "quality": {..}} and, when `with_3d`, also "shape",
+/// "roi": [x, y, width, height], "confidence": .., "cut_by_border": true/false, "quality": {..}} and, when `with_3d`, also "shape",
 /// "size": [x, y, z], "range", "position": [x, y, z], "orientation": [x, y, z, w], "num_points", "fit_rmse".
 /// Strings are escaped; non-finite numbers are written as null.
 std::string detectionJson(const std::string& file, int id, const Detection& d, const QualityReport& quality,

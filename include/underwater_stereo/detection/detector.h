@@ -30,6 +30,9 @@ struct Detection {
   double range_m = 0.0;               ///< |position_m|
   cv::Rect roi;                       ///< raw left image
   std::vector<cv::Point> contour;     ///< raw left image
+  /// Its outline runs along the image's border (onImageBorder): the object is partly out of view, and its
+  /// size and position are partly a guess at what is not seen.
+  bool cut_by_border = false;
   double confidence = 0.0;            ///< 0-1
   std::vector<Eigen::Vector3f> points;  ///< the object's cluster [m]
   double fit_rmse_m = 0.0;

@@ -42,6 +42,10 @@ struct OutlineCues {
 /// and BGR8, or the contour has fewer than 3 points.
 OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Size& frame);
 
+/// Whether an outline's point lies on the border of a `frame`-sized image (within a pixel of it): there the
+/// outline is the image's edge, not the object's.
+bool onImageBorder(const cv::Point& p, const cv::Size& frame);
+
 /// Number of features per object, and their names in order: the outline and shading cues, then the 3D
 /// fits' evidence (residuals of the plane, sphere and cylinder fits relative to range, principal extents,
 /// depth spread against the outline's width, dominant planes' shares, the bulge of the points towards the
