@@ -16,6 +16,7 @@
 #include "underwater_stereo/detection/object_pieces.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
 #include "underwater_stereo/detection/shape_features.h"
+#include "underwater_stereo/detection/silhouette_depth.h"
 #include "underwater_stereo/detection/stopwatch.h"
 #include "underwater_stereo/detection/work_on_threads.h"
 
@@ -252,32 +253,6 @@ Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const cv::Size
   d.measured_bgr = cv::mean(left_roi, c.mask);
   d.confidence = c.colour_fraction;
   return d;
-}
-
-/// Moves a fitted model along its viewing ray to the depth its silhouette's disparity gives (the angular
-/// size stays: centre and size scale together). Stereo surfaces are smoothed towards the object's rim, the
-/// silhouette is not.
-void placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration) {
-  if (!std::isfinite(disparity) || disparity <= 0 || fit.shape == ShapeKind::kUnknown) return;
-  const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(calibration.left.R.val);
-  const double z_rectified = (r * fit.centre).z();
-  if (z_rectified <= 0) return;
-  double z_target = calibration.focalPx() * calibration.baselineM() / disparity + fit.hidden_depth_m;
-  if (fit.shape == ShapeKind::kSphere) {
-    // A sphere's outline is its tangent circle, R^2 / d in front of its centre (d: centre distance).
-    const double radius = fit.size.x() / 2 * z_target / z_rectified, d = fit.centre.norm() * z_target / z_rectified;
-    z_target *= 1 / (1 - radius * radius / (d * d));
-  } else if (fit.shape == ShapeKind::kCylinder) {
-    // The silhouette's horizontal shift comes from its left and right ends. Along a tube lying across the
-    // image those are the end rims nearest the camera (perspective pushes them furthest out), a radius in
-    // front of the axis; across a tube standing upright they are its tangent lines, level with the axis.
-    const Eigen::Vector3d axis = r * (fit.orientation * Eigen::Vector3d::UnitZ());
-    const double in_image = std::hypot(axis.x(), axis.y());
-    if (in_image > 1e-6) z_target += fit.size.x() / 2 * std::abs(axis.x()) / in_image;
-  }
-  const double scale = z_target / z_rectified;
-  fit.centre *= scale;
-  fit.size *= scale;
 }
 
 }  // namespace
