@@ -259,6 +259,29 @@ TEST(Tracker, AnObjectCutByTheImageBorderUpdatesATrackButStartsNone) {
   EXPECT_EQ(tracker.update(f).track_ids[0], id) << "leaving the view, it still updates its track";
 }
 
+// A detection the border cuts has its centre partly guessed: it pulls a track far less than a whole one.
+TEST(Tracker, ADetectionCutByTheBorderPullsATrackLessThanAWholeOne) {
+  const TrackingConfig config;
+  const Eigen::Vector3d truth(0.5, 0, 3), off = truth + Eigen::Vector3d(0, 0, 0.1);
+  double moved[2] = {0, 0};
+  for (const bool cut : {false, true}) {
+    Tracker tracker(config);
+    TrackingFrame f;
+    f.observations = {observation("green", truth)};
+    for (int k = 0; k < 10; ++k, f.stamp_s += 0.1) tracker.update(f);
+    Observation o = observation("green", off);
+    o.cut_by_border = cut;
+    f.observations = {o};
+    ASSERT_NE(tracker.update(f).track_ids[0], 0U) << "cut " << cut << ": it updates the track";
+    moved[cut] = (tracker.tracks().at(0).filter.position() - truth).norm();
+  }
+  EXPECT_GT(moved[0], 0.02) << "a whole detection 10 cm off moves the track";
+  EXPECT_LT(moved[1], moved[0] / 10) << "a cut one " << config.cut_by_border_sigma_scale << " times as uncertain";
+  const Tracker tracker(config);
+  EXPECT_TRUE(tracker.measurementCovariance(off, true).isApprox(
+      std::pow(config.cut_by_border_sigma_scale, 2) * tracker.measurementCovariance(off, false)));
+}
+
 TEST(Tracker, IncompatibleDetectionsNeverJoinATrack) {
   TrackingConfig config;
   config.targets = {{"red_buoy", "red", ShapeKind::kSphere, 0.25, 0.3}};

@@ -47,17 +47,19 @@ TEST(TrackingConfig, ParsesTargetsAndSettings) {
   EXPECT_EQ(c.confirm_hits, 5);
   EXPECT_EQ(c.max_misses, 7);
   EXPECT_DOUBLE_EQ(c.gate_chi2, 9.0);
+  EXPECT_DOUBLE_EQ(parseTrackingConfig(YAML::Load("tracking: {cut_by_border_sigma_scale: 3}")).cut_by_border_sigma_scale, 3.0);
 }
 
 TEST(TrackingConfig, ListsEveryProblem) {
   const std::string p = problemsOf(
       "targets: [{name: a, colour: red, shape: cone, size_m: -1, size_tolerance: 2}, {name: a, size_m: x}]\n"
-      "tracking: {confirm_hits: 0, gate_chi2: -1, max_misses: 0, bogus: 1}\nextra: 1");
+      "tracking: {confirm_hits: 0, gate_chi2: -1, max_misses: 0, cut_by_border_sigma_scale: 0.5, bogus: 1}\nextra: 1");
   for (const char* expected : {"targets[0].shape: 'cone' is not one of sphere, cylinder, box, plane, unknown",
                                "targets[0].size_m", "targets[0].size_tolerance",
                                "targets[1].colour: missing", "targets[1].size_m: expected a number",
                                "targets[1].name: 'a' used twice", "tracking.confirm_hits", "tracking.gate_chi2",
-                               "tracking.max_misses", "tracking.bogus: unknown key", "extra: unknown key"}) {
+                               "tracking.max_misses", "tracking.cut_by_border_sigma_scale must be >= 1",
+                               "tracking.bogus: unknown key", "extra: unknown key"}) {
     EXPECT_NE(p.find(expected), std::string::npos) << expected << " not in:\n" << p;
   }
   EXPECT_NE(problemsOf("targets_only: true").find("needs at least one target"), std::string::npos);

@@ -67,11 +67,12 @@ const Track* Tracker::findConfirmed(const std::string& label) const {
   return best;
 }
 
-Eigen::Matrix3d Tracker::measurementCovariance(const Eigen::Vector3d& p) const {
+Eigen::Matrix3d Tracker::measurementCovariance(const Eigen::Vector3d& p, bool cut_by_border) const {
   const double range = p.norm();
   const Eigen::Vector3d ray = range > 0 ? Eigen::Vector3d(p / range) : Eigen::Vector3d::UnitZ();
-  const double along = config_.min_sigma_m + config_.range_sigma_fraction * range;
-  const double across = config_.min_sigma_m + config_.lateral_sigma_fraction * range;
+  const double scale = cut_by_border ? config_.cut_by_border_sigma_scale : 1.0;
+  const double along = scale * (config_.min_sigma_m + config_.range_sigma_fraction * range);
+  const double across = scale * (config_.min_sigma_m + config_.lateral_sigma_fraction * range);
   return Eigen::Matrix3d::Identity() * (across * across) + ray * ray.transpose() * (along * along - across * across);
 }
 
@@ -140,7 +141,7 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
     }
     valid[i] = true;
     z[i] = frame.camera_pose * o.position_m;
-    r[i] = rotation * measurementCovariance(o.position_m) * rotation.transpose();
+    r[i] = rotation * measurementCovariance(o.position_m, o.cut_by_border) * rotation.transpose();
   }
 
   // Where the tracks should be in the image. Detections whose depth cannot be trusted update no track and start

@@ -38,6 +38,9 @@ std::vector<std::string> TrackingConfig::validate() const {
   requireNonNegative(p, "tracking.range_sigma_fraction", range_sigma_fraction);
   requireNonNegative(p, "tracking.lateral_sigma_fraction", lateral_sigma_fraction);
   requirePositive(p, "tracking.min_sigma_m", min_sigma_m);
+  if (!(cut_by_border_sigma_scale >= 1.0 && std::isfinite(cut_by_border_sigma_scale))) {
+    p.push_back("tracking.cut_by_border_sigma_scale must be >= 1 (a part is no surer than the whole)");
+  }
   requirePositive(p, "tracking.acceleration_sigma_mps2", acceleration_sigma_mps2);
   requirePositive(p, "tracking.initial_speed_sigma_mps", initial_speed_sigma_mps);
   requirePositive(p, "tracking.gate_chi2", gate_chi2);
@@ -91,7 +94,7 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
   if (const YAML::Node t = root["tracking"]) {
     const std::string path = "tracking.";
     f.onlyKeys(t, path, {"reject_wrong_size", "match_shape", "range_sigma_fraction", "lateral_sigma_fraction",
-                         "min_sigma_m", "acceleration_sigma_mps2", "initial_speed_sigma_mps", "gate_chi2",
+                         "min_sigma_m", "cut_by_border_sigma_scale", "acceleration_sigma_mps2", "initial_speed_sigma_mps", "gate_chi2",
                          "confirm_hits", "tentative_max_misses", "max_misses", "view_margin_px", "occlusion_margin_m",
                          "max_camera_speed_mps", "max_camera_turn_rate_dps", "max_backwards_s"});
     if (t.IsMap()) {
@@ -100,6 +103,7 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
       f.optional(t, "range_sigma_fraction", path, c.range_sigma_fraction);
       f.optional(t, "lateral_sigma_fraction", path, c.lateral_sigma_fraction);
       f.optional(t, "min_sigma_m", path, c.min_sigma_m);
+      f.optional(t, "cut_by_border_sigma_scale", path, c.cut_by_border_sigma_scale);
       f.optional(t, "acceleration_sigma_mps2", path, c.acceleration_sigma_mps2);
       f.optional(t, "initial_speed_sigma_mps", path, c.initial_speed_sigma_mps);
       f.optional(t, "gate_chi2", path, c.gate_chi2);

@@ -113,8 +113,9 @@ class Tracker {
   double lastStamp() const { return last_stamp_s_; }
 
   /// Measurement covariance [m^2] of a detection at `p_camera` (left optical frame), in that frame:
-  /// range_sigma along the viewing ray, lateral_sigma across it.
-  Eigen::Matrix3d measurementCovariance(const Eigen::Vector3d& p_camera) const;
+  /// range_sigma along the viewing ray, lateral_sigma across it; both cut_by_border_sigma_scale times larger
+  /// for a detection the image border cuts.
+  Eigen::Matrix3d measurementCovariance(const Eigen::Vector3d& p_camera, bool cut_by_border = false) const;
 
  private:
   bool compatible(const Track& t, const Observation& o) const;
