@@ -63,7 +63,8 @@ TEST(SilhouetteDepth, LeavesAFitWhoseSilhouetteDisagreesWithItsPoints) {
 // No silhouette (NaN), a disparity that is no depth, or a fit without a shape: nothing moves.
 TEST(SilhouetteDepth, IgnoresMissingSilhouettesAndUnknownShapes) {
   const StereoCalibration c = headCalibration();
-  for (const double d : {std::numeric_limits<double>::quiet_NaN(), 0.0, -5.0, std::numeric_limits<double>::infinity()}) {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN(), kInf = std::numeric_limits<double>::infinity();
+  for (const double d : {kNaN, 0.0, -5.0, kInf}) {
     ShapeFit fit = panelAt(2.0, c);
     EXPECT_FALSE(placeAtSilhouetteDepth(fit, d, c)) << d;
     EXPECT_NEAR(rectifiedDepth(fit, c), 2.0, 1e-9);

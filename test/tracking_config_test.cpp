@@ -47,7 +47,8 @@ TEST(TrackingConfig, ParsesTargetsAndSettings) {
   EXPECT_EQ(c.confirm_hits, 5);
   EXPECT_EQ(c.max_misses, 7);
   EXPECT_DOUBLE_EQ(c.gate_chi2, 9.0);
-  EXPECT_DOUBLE_EQ(parseTrackingConfig(YAML::Load("tracking: {cut_by_border_sigma_scale: 3}")).cut_by_border_sigma_scale, 3.0);
+  const TrackingConfig scaled = parseTrackingConfig(YAML::Load("tracking: {cut_by_border_sigma_scale: 3}"));
+  EXPECT_DOUBLE_EQ(scaled.cut_by_border_sigma_scale, 3.0);
 }
 
 TEST(TrackingConfig, ListsEveryProblem) {

@@ -94,9 +94,10 @@ TrackingConfig parseTrackingConfig(const YAML::Node& root) {
   if (const YAML::Node t = root["tracking"]) {
     const std::string path = "tracking.";
     f.onlyKeys(t, path, {"reject_wrong_size", "match_shape", "range_sigma_fraction", "lateral_sigma_fraction",
-                         "min_sigma_m", "cut_by_border_sigma_scale", "acceleration_sigma_mps2", "initial_speed_sigma_mps", "gate_chi2",
-                         "confirm_hits", "tentative_max_misses", "max_misses", "view_margin_px", "occlusion_margin_m",
-                         "max_camera_speed_mps", "max_camera_turn_rate_dps", "max_backwards_s"});
+                         "min_sigma_m", "cut_by_border_sigma_scale", "acceleration_sigma_mps2",
+                         "initial_speed_sigma_mps", "gate_chi2", "confirm_hits", "tentative_max_misses", "max_misses",
+                         "view_margin_px", "occlusion_margin_m", "max_camera_speed_mps", "max_camera_turn_rate_dps",
+                         "max_backwards_s"});
     if (t.IsMap()) {
       f.optional(t, "reject_wrong_size", path, c.reject_wrong_size);
       f.optional(t, "match_shape", path, c.match_shape);
