@@ -39,7 +39,8 @@ std::vector<std::string> TrackingConfig::validate() const {
   requireNonNegative(p, "tracking.lateral_sigma_fraction", lateral_sigma_fraction);
   requirePositive(p, "tracking.min_sigma_m", min_sigma_m);
   if (!(cut_by_border_sigma_scale >= 1.0 && std::isfinite(cut_by_border_sigma_scale))) {
-    p.push_back("tracking.cut_by_border_sigma_scale must be >= 1 (a part is no surer than the whole)");
+    p.push_back("tracking.cut_by_border_sigma_scale must be >= 1, a part being no surer than the whole (got " +
+                std::to_string(cut_by_border_sigma_scale) + ")");
   }
   requirePositive(p, "tracking.acceleration_sigma_mps2", acceleration_sigma_mps2);
   requirePositive(p, "tracking.initial_speed_sigma_mps", initial_speed_sigma_mps);
