@@ -57,3 +57,30 @@ TEST(ForestVotes, RefusesWhatIsNotATrainedClassifierOfThoseFeatures) {
   EXPECT_THROW(ForestVotes(*forest, 5), std::invalid_argument);
   EXPECT_TRUE(ForestVotes().empty());
 }
+
+// OpenCV's reader accepts a split on the feature one past the last and then reads out of bounds with it (a crash):
+// a stored forest is checked first, and a corrupt index is named with its tree and node.
+TEST(ForestVotes, AStoredForestSplittingOnAFeatureItHasNotIsRefusedBeforeOpenCVReadsIt) {
+  cv::Mat training;
+  const cv::Ptr<cv::ml::RTrees> forest = trainedForest(training);
+  cv::FileStorage out(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+  out << "forest" << "{";
+  forest->write(out);
+  out << "}";
+  const std::string text = out.releaseAndGetString();
+  auto stored = [](const std::string& yaml) { return cv::FileStorage(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY); };
+  EXPECT_NO_THROW(checkStoredForest(stored(text)["forest"], 6, "m.yml: "));
+  EXPECT_THROW(checkStoredForest(stored(text)["forest"], 5, "m.yml: "), std::invalid_argument);
+  for (const char* bad : {"var:6", "var:7", "var:-1"}) {
+    std::string corrupt = text;
+    const std::size_t at = corrupt.find("var:");
+    ASSERT_NE(at, std::string::npos);
+    corrupt.replace(at, corrupt.find(',', at) - at, bad);
+    try {
+      checkStoredForest(stored(corrupt)["forest"], 6, "m.yml: ");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("m.yml: forest: tree 0 node 0 splits on feature"), std::string::npos) << e.what();
+    }
+  }
+}

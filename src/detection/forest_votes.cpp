@@ -26,6 +26,52 @@ cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
 
 }  // namespace
 
+void checkStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what) {
+  auto integer = [&](const cv::FileNode& n, const std::string& name) {
+    if (!n.isInt()) throw std::invalid_argument(what + "forest: " + name + " is missing or not an integer");
+    return static_cast<int>(n);
+  };
+  if (!forest.isMap()) throw std::invalid_argument(what + "no forest");
+  const int var_all = integer(forest["var_all"], "var_all"), var_count = integer(forest["var_count"], "var_count");
+  if (var_count != feature_count || var_all != feature_count + 1) {
+    throw std::invalid_argument(what + "forest of " + std::to_string(var_count) + " features and " +
+                                std::to_string(var_all - var_count) + " responses, not " + std::to_string(feature_count) +
+                                " and 1");
+  }
+  const cv::FileNode var_idx = forest["var_idx"], var_type = forest["var_type"];
+  if (!var_type.isSeq() || static_cast<int>(var_type.size()) != var_all) {
+    throw std::invalid_argument(what + "forest: var_type does not list " + std::to_string(var_all) + " variables");
+  }
+  if (!var_idx.empty()) {
+    if (!var_idx.isSeq() || static_cast<int>(var_idx.size()) != var_count) {
+      throw std::invalid_argument(what + "forest: var_idx does not list " + std::to_string(var_count) + " features");
+    }
+    for (const cv::FileNode& v : var_idx) {
+      if (!v.isInt() || static_cast<int>(v) < 0 || static_cast<int>(v) >= var_count) {
+        throw std::invalid_argument(what + "forest: var_idx names a feature outside [0, " + std::to_string(var_count) + ")");
+      }
+    }
+  }
+  const cv::FileNode trees = forest["trees"];
+  if (!trees.isSeq()) throw std::invalid_argument(what + "forest: no trees");
+  int t = 0;
+  for (const cv::FileNode& tree : trees) {
+    int n = 0;
+    for (const cv::FileNode& node : tree["nodes"]) {
+      for (const cv::FileNode& split : node["splits"]) {
+        const int var = split["var"].isInt() ? static_cast<int>(split["var"]) : -1;
+        if (var < 0 || var >= feature_count) {
+          throw std::invalid_argument(what + "forest: tree " + std::to_string(t) + " node " + std::to_string(n) +
+                                      " splits on feature " + (split["var"].isInt() ? std::to_string(var) : "(none)") +
+                                      ", outside [0, " + std::to_string(feature_count) + ")");
+        }
+      }
+      ++n;
+    }
+    ++t;
+  }
+}
+
 ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) {
   if (!forest.isTrained() || !forest.isClassifier() || forest.getVarCount() != feature_count || feature_count < 1) {
     throw std::invalid_argument("ForestVotes: no trained classifier forest of " + std::to_string(feature_count) + " features");
