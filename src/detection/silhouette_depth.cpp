@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/silhouette_depth.h"
 
-#include <Eigen/Geometry>
+#include <Eigen/Core>
 
 #include <cmath>
 
@@ -13,17 +13,12 @@ bool placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibra
   const double z_rectified = (r * fit.centre).z();
   if (z_rectified <= 0) return false;
   double z_target = calibration.focalPx() * calibration.baselineM() / disparity + fit.hidden_depth_m;
-  if (fit.shape == ShapeKind::kSphere) {
-    // A sphere's outline is its tangent circle, R^2 / d in front of its centre (d: centre distance).
+  if (fit.shape == ShapeKind::kSphere || fit.shape == ShapeKind::kCylinder) {
+    // A sphere's outline is its tangent circle, R^2 / d in front of its centre (d: centre distance); a tube's
+    // sides are its tangent lines, as far in front of its axis. Its ends' rims lie up to a radius nearer, but
+    // the fit's axis and radius are least sure exactly there (docs/accuracy.md, "A tube's silhouette").
     const double radius = fit.size.x() / 2 * z_target / z_rectified, d = fit.centre.norm() * z_target / z_rectified;
     z_target *= 1 / (1 - radius * radius / (d * d));
-  } else if (fit.shape == ShapeKind::kCylinder) {
-    // The silhouette's horizontal shift comes from its left and right ends. Along a tube lying across the
-    // image those are the end rims nearest the camera (perspective pushes them furthest out), a radius in
-    // front of the axis; across a tube standing upright they are its tangent lines, level with the axis.
-    const Eigen::Vector3d axis = r * (fit.orientation * Eigen::Vector3d::UnitZ());
-    const double in_image = std::hypot(axis.x(), axis.y());
-    if (in_image > 1e-6) z_target += fit.size.x() / 2 * std::abs(axis.x()) / in_image;
   }
   if (std::abs(z_target - z_rectified) > kMaxSilhouetteShiftInExtents * fit.size.maxCoeff()) return false;
   const double scale = z_target / z_rectified;
