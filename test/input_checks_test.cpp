@@ -65,7 +65,8 @@ std::string calibrationWith(const std::string& from, const std::string& to) {
 
 TEST(ImageSize, TheRangeDependsOnTheSearchScale) {
   EXPECT_EQ(imageSizeProblem(32, 32), "");
-  EXPECT_EQ(imageSizeProblem(16384, 16384), "");
+  EXPECT_EQ(imageSizeProblem(16384, 2025), "");  // 8K UHD's pixels
+  EXPECT_EQ(imageSizeProblem(16384, 16384), "image size 16384x16384 has 268435456 pixels, more than 33177600 (8K UHD)");
   EXPECT_EQ(imageSizeProblem(1, 1), "image size 1x1 is outside 32..16384 px per side");
   EXPECT_NE(imageSizeProblem(16385, 100).find("outside"), std::string::npos);
   EXPECT_NE(imageSizeProblem(4294967296LL, 100).find("4294967296x100"), std::string::npos);

@@ -16,6 +16,9 @@ constexpr int kMinImageSidePx = 32;
 constexpr int kMinSearchSidePx = 16;
 /// [px] Largest image side: width * height * 3 channels stays far below 2^31 (OpenCV's int sizes).
 constexpr int kMaxImageSidePx = 16384;
+/// [px] Most pixels an image may have: 8K UHD (7680 x 4320), 14 times the head's 1920x1200. The pipeline's
+/// buffers grow with the area (a 16384 x 16384 frame took 7.7 GB), and a small file can declare any size.
+constexpr long long kMaxImagePixels = 7680LL * 4320;
 
 /// [px] Smallest side a frame may have when it is searched at `search_scale` (0.1-1).
 inline int minImageSidePx(double search_scale) {
@@ -27,7 +30,11 @@ inline int minImageSidePx(double search_scale) {
 /// judged before anything multiplies them.
 inline std::string imageSizeProblem(long long width, long long height, double search_scale = 1.0) {
   const int min_side = minImageSidePx(search_scale);
-  if (width >= min_side && height >= min_side && width <= kMaxImageSidePx && height <= kMaxImageSidePx) return "";
+  if (width >= min_side && height >= min_side && width <= kMaxImageSidePx && height <= kMaxImageSidePx) {
+    if (width * height <= kMaxImagePixels) return "";
+    return "image size " + std::to_string(width) + "x" + std::to_string(height) + " has " +
+           std::to_string(width * height) + " pixels, more than " + std::to_string(kMaxImagePixels) + " (8K UHD)";
+  }
   std::string why = "image size " + std::to_string(width) + "x" + std::to_string(height) + " is outside " +
                     std::to_string(min_side) + ".." + std::to_string(kMaxImageSidePx) + " px per side";
   if (min_side > kMinImageSidePx) why += " (search_scale " + cv::format("%g", search_scale) + " needs >= " +
