@@ -214,6 +214,26 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   const std::string not_voc = writeTemp("not_voc.xml", "hello");
   EXPECT_NE(messageOf([&] { readVocLabels(not_voc); }).find("not a Pascal VOC annotation"), std::string::npos);
   EXPECT_NE(messageOf([&] { readVocLabels(::testing::TempDir() + "absent.xml"); }).find("cannot be read"), std::string::npos);
+  // XML's own rules: a commented-out object is no object, attributes are allowed, a <part>'s box is the part's.
+  const std::string box = "<bndbox><xmin>10</xmin><ymin>5</ymin><xmax>30</xmax><ymax>25</ymax></bndbox>";
+  const std::string xml_rules = writeTemp("rules.xml", "<annotation><!-- <object><name>green</name>" + box +
+      "</object> --><object id=\"0\"><name> buoy_red </name>" + box + "<part><name>stem</name><bndbox><xmin>1</xmin>"
+      "<ymin>1</ymin><xmax>2</xmax><ymax>2</ymax></bndbox></part></object></annotation>");
+  const std::vector<LabelBox> labels = readVocLabels(xml_rules);
+  ASSERT_EQ(labels.size(), 1U);
+  EXPECT_EQ(labels[0].name, "buoy_red");
+  EXPECT_EQ(labels[0].box, cv::Rect(10, 5, 20, 20));
+  const std::string swallowed = writeTemp("swallowed.xml", "<annotation><object><name>red</name>" + box +
+      "<object><name>green</name>" + box + "</object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(swallowed); }).find(swallowed + ": unreadable XML"), std::string::npos)
+      << "an unclosed <object> must not swallow the next one";
+  const std::string huge = writeTemp("huge.xml", head + "<xmin>1</xmin><ymin>5</ymin><xmax>10</xmax><ymax>3e9</ymax></bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(huge); }).find("object 0 (buoy_red): <ymax> 3e9 lies beyond any image"), std::string::npos)
+      << messageOf([&] { readVocLabels(huge); });
+  const std::string twice = writeTemp("twice.xml", "<annotation><object><name>red</name>" + box +
+      "</object><object><name>yellow</name>" + box + "</object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(twice); }).find("object 1 (yellow): box [10, 5, 30, 25] is also object 0's (red)"),
+            std::string::npos) << messageOf([&] { readVocLabels(twice); });
 
   LabelledFrame f;
   f.name = "frame_7.jpg";

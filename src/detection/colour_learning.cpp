@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
+#include <tinyxml2.h>
+
+#include "underwater_stereo/common/image_size.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detector.h"
 
@@ -19,19 +22,6 @@ namespace {
 /// Between this overlap with a labelled object (intersection over union) and kMatchIou a proposal is part of
 /// an object or the object with its surroundings: neither example nor background.
 constexpr double kIgnoreIou = 0.05;
-
-/// The text between `<tag>` and `</tag>` in xml[from, to), and where the closing tag ends; false if absent.
-bool element(const std::string& xml, const std::string& tag, std::size_t from, std::size_t to, std::string& content,
-             std::size_t& end) {
-  const std::string open = "<" + tag + ">", close = "</" + tag + ">";
-  const std::size_t a = xml.find(open, from);
-  if (a == std::string::npos || a >= to) return false;
-  const std::size_t b = xml.find(close, a + open.size());
-  if (b == std::string::npos || b + close.size() > to) throw std::invalid_argument("<" + tag + "> is not closed");
-  content = xml.substr(a + open.size(), b - a - open.size());
-  end = b + close.size();
-  return true;
-}
 
 std::string trimmed(const std::string& s) {
   const std::size_t a = s.find_first_not_of(" \t\r\n"), b = s.find_last_not_of(" \t\r\n");
@@ -56,60 +46,65 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box) {
 }
 
 std::vector<LabelBox> readVocLabels(const std::string& path) {
+  // An XML library, not a text search: comments, attributes, a <part>'s own <bndbox> and unclosed elements are
+  // XML's business (a search took a commented-out object, skipped <object id="0">, took a part's box).
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot be read");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string xml = text.str();
-  if (xml.find("<annotation") == std::string::npos) {
-    throw std::invalid_argument(path + ": not a Pascal VOC annotation (no <annotation> element)");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string not_voc = path + ": not a Pascal VOC annotation (no <annotation> element)";
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+    if (text.find("<annotation") == std::string::npos) throw std::invalid_argument(not_voc);
+    throw std::invalid_argument(path + ": unreadable XML (" + std::string(doc.ErrorStr() ? doc.ErrorStr() : "") + ")");
   }
+  const tinyxml2::XMLElement* annotation = doc.RootElement();
+  if (!annotation || std::string(annotation->Name()) != "annotation") throw std::invalid_argument(not_voc);
   std::vector<LabelBox> out;
-  std::size_t pos = 0;
-  std::string object;
   int index = 0;
-  try {
-    for (std::size_t end = 0; element(xml, "object", pos, xml.size(), object, end); pos = end, ++index) {
-      LabelBox label;
-      std::string field, box;
-      std::size_t e = 0;
-      const std::string where = path + ": object " + std::to_string(index);
-      if (!element(object, "name", 0, object.size(), field, e) || trimmed(field).empty()) {
-        throw std::invalid_argument(where + " has no <name>");
+  for (const tinyxml2::XMLElement* object = annotation->FirstChildElement("object"); object;
+       object = object->NextSiblingElement("object"), ++index) {
+    const std::string where = path + ": object " + std::to_string(index);
+    const tinyxml2::XMLElement* name = object->FirstChildElement("name");
+    LabelBox label;
+    label.name = trimmed(name && name->GetText() ? name->GetText() : "");
+    if (label.name.empty()) throw std::invalid_argument(where + " has no <name>");
+    const std::string named = where + " (" + label.name + ")";
+    const tinyxml2::XMLElement* box = object->FirstChildElement("bndbox");  // a <part>'s box is the part's
+    if (!box) throw std::invalid_argument(named + " has no <bndbox>");
+    double v[4];
+    const char* keys[4] = {"xmin", "ymin", "xmax", "ymax"};
+    for (int k = 0; k < 4; ++k) {
+      const tinyxml2::XMLElement* field = box->FirstChildElement(keys[k]);
+      if (!field) throw std::invalid_argument(named + " has no <" + keys[k] + ">");
+      const std::string text = trimmed(field->GetText() ? field->GetText() : "");
+      std::size_t used = 0;
+      try {
+        v[k] = std::stod(text, &used);
+      } catch (const std::exception&) {
+        used = 0;
       }
-      label.name = trimmed(field);
-      if (!element(object, "bndbox", 0, object.size(), box, e)) {
-        throw std::invalid_argument(where + " (" + label.name + ") has no <bndbox>");
+      if (used == 0 || used != text.size() || !std::isfinite(v[k])) {
+        throw std::invalid_argument(named + ": <" + keys[k] + "> '" + text + "' is not a number");
       }
-      double v[4];
-      const char* keys[4] = {"xmin", "ymin", "xmax", "ymax"};
-      for (int k = 0; k < 4; ++k) {
-        if (!element(box, keys[k], 0, box.size(), field, e)) {
-          throw std::invalid_argument(where + " (" + label.name + ") has no <" + keys[k] + ">");
-        }
-        std::size_t used = 0;
-        try {
-          v[k] = std::stod(trimmed(field), &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == 0 || used != trimmed(field).size() || !std::isfinite(v[k])) {
-          throw std::invalid_argument(where + " (" + label.name + "): <" + keys[k] + "> '" + trimmed(field) +
-                                      "' is not a number");
-        }
+      if (std::abs(v[k]) > kMaxImageSidePx) {  // beyond any image, and beyond an int once rounded
+        throw std::invalid_argument(named + ": <" + keys[k] + "> " + text + " lies beyond any image (|value| > " +
+                                    std::to_string(kMaxImageSidePx) + ")");
       }
-      if (!(v[2] > v[0] && v[3] > v[1])) {
-        throw std::invalid_argument(where + " (" + label.name + "): empty box [" + std::to_string(v[0]) + ", " +
-                                    std::to_string(v[1]) + ", " + std::to_string(v[2]) + ", " + std::to_string(v[3]) + "]");
-      }
-      const int x0 = static_cast<int>(std::floor(v[0])), y0 = static_cast<int>(std::floor(v[1]));
-      label.box = cv::Rect(x0, y0, std::max(1, static_cast<int>(std::ceil(v[2])) - x0),
-                           std::max(1, static_cast<int>(std::ceil(v[3])) - y0));
-      out.push_back(label);
     }
-  } catch (const std::invalid_argument& e) {
-    const std::string message = e.what();
-    throw std::invalid_argument(message.rfind(path, 0) == 0 ? message : path + ": unreadable XML: " + message);
+    if (!(v[2] > v[0] && v[3] > v[1])) {
+      throw std::invalid_argument(named + ": empty box [" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " +
+                                  std::to_string(v[2]) + ", " + std::to_string(v[3]) + "]");
+    }
+    const int x0 = static_cast<int>(std::floor(v[0])), y0 = static_cast<int>(std::floor(v[1]));
+    label.box = cv::Rect(x0, y0, std::max(1, static_cast<int>(std::ceil(v[2])) - x0),
+                         std::max(1, static_cast<int>(std::ceil(v[3])) - y0));
+    for (std::size_t j = 0; j < out.size(); ++j) {
+      if (out[j].box == label.box) {  // twice the weight, or two colours for one object: a labelling slip
+        throw std::invalid_argument(named + ": box " + boxText(label.box) + " is also object " + std::to_string(j) +
+                                    "'s (" + out[j].name + ")");
+      }
+    }
+    out.push_back(label);
   }
   return out;
 }

@@ -4,10 +4,9 @@
 #include <dirent.h>
 #include <yaml-cpp/yaml.h>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -21,6 +20,7 @@
 #include "underwater_stereo/detection/colour_learning.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/image_file.h"
 #include "underwater_stereo/detection/miss_causes.h"
 
 using namespace underwater_stereo;
@@ -137,6 +137,15 @@ Options parse(int argc, char** argv) {
   if (o.images.empty() || o.images.size() != o.annotations.size()) {
     throw std::invalid_argument("give --images DIR --annotations DIR (in pairs)");
   }
+  for (std::size_t i = 0; i < o.images.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      std::error_code error;
+      if (std::filesystem::equivalent(o.images[i], o.images[j], error)) {
+        throw std::invalid_argument("--images " + o.images[i] + " is given twice (also as " + o.images[j] +
+                                    "): its frames would be learnt twice, and judged by folds that learnt them");
+      }
+    }
+  }
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {
@@ -173,9 +182,10 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
     for (const std::string& name : imagesIn(o.images[d])) {
       LabelledFrame f;
       f.name = o.images[d] + "/" + name;
-      f.image = cv::imread(f.name, cv::IMREAD_COLOR);
-      if (f.image.empty()) {
-        problems.push_back(f.name + ": cannot be read as an image");
+      try {
+        f.image = readImageFile(f.name);  // strict: a truncated frame would teach its grey fill
+      } catch (const std::invalid_argument& e) {
+        problems.push_back(e.what());
         continue;
       }
       const std::string xml = o.annotations[d] + "/" + name.substr(0, name.find_last_of('.')) + ".xml";
