@@ -63,12 +63,18 @@ light: {exposure: 0}
 objects:
   - {name: a, shape: sphere, colour: red, position_m: [0, 0, 2], diameter_m: 0}
   - {name: a, shape: sphere, colour: red, position_m: [0, 0, 2], diameter_m: 0.2}
+  - {name: b, shape: sphere, colour: red, position_m: [0, 0, 2], diameter_m: 0.2, rpy_deg: [.nan, 0, 0],
+     motion: {velocity_mps: [1e30, 0, 0]}}
+camera_motion: {yaw_rate_dps: .inf}
 )");
   EXPECT_NE(error.find("rig.width"), std::string::npos) << error;
   EXPECT_NE(error.find("sensor.encoding: 'yuv422'"), std::string::npos) << error;
   EXPECT_NE(error.find("light.exposure"), std::string::npos) << error;
   EXPECT_NE(error.find("size_m[0]"), std::string::npos) << error;
   EXPECT_NE(error.find("is used twice"), std::string::npos) << error;
+  EXPECT_NE(error.find("objects[2] (b).rpy_deg[0] = nan is outside [-3600, 3600]"), std::string::npos) << error;
+  EXPECT_NE(error.find("objects[2] (b).motion.velocity_mps[0] = 1e+30 is outside [-100, 100]"), std::string::npos) << error;
+  EXPECT_NE(error.find("camera_motion.yaw_rate_dps = inf"), std::string::npos) << error;
 }
 
 TEST(Scene, RejectsNonMapDocumentAndMissingFile) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/sim/scene.h"
 
+#include <opencv2/core.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -83,15 +84,22 @@ SceneObject parseObject(YamlFields& f, const YAML::Node& node, const std::string
 }
 
 void requireRange(std::vector<std::string>& problems, const std::string& name, double value, double lo, double hi) {
-  if (!(value >= lo && value <= hi)) {
-    problems.push_back(name + " = " + std::to_string(value) + " is outside [" + std::to_string(lo) + ", " +
-                       std::to_string(hi) + "]");
-  }
+  if (!(value >= lo && value <= hi)) problems.push_back(name + " = " + cv::format("%g is outside [%g, %g]", value, lo, hi));
 }
 
 void requireRange3(std::vector<std::string>& problems, const std::string& name, const Eigen::Vector3d& v, double lo,
                    double hi) {
   for (int i = 0; i < 3; ++i) requireRange(problems, name + "[" + std::to_string(i) + "]", v[i], lo, hi);
+}
+
+/// A motion any vehicle or object in a pool could have (a NaN or a runaway value renders nonsense truth).
+void requireMotion(std::vector<std::string>& problems, const std::string& name, const Motion& m) {
+  requireRange3(problems, name + "velocity_mps", m.velocity_mps, -100, 100);
+  requireRange(problems, name + "yaw_rate_dps", m.yaw_rate_dps, -3600, 3600);
+  requireRange(problems, name + "yaw_amplitude_deg", m.yaw_amplitude_deg, -360, 360);
+  requireRange(problems, name + "yaw_period_s", m.yaw_period_s, 0.1, 1e6);
+  requireRange(problems, name + "bob_amplitude_m", m.bob_amplitude_m, -100, 100);
+  requireRange(problems, name + "bob_period_s", m.bob_period_s, 0.1, 1e6);
 }
 
 }  // namespace
@@ -156,17 +164,16 @@ std::vector<std::string> Scene::validate() const {
     requireRange(p, n + "specular", o.specular, 0, 1);
     requireRange(p, n + "shininess", o.shininess, 1, 5000);
     requireRange3(p, n + "position_m", o.position_m, -1000, 1000);
+    requireRange3(p, n + "rpy_deg", o.rpy_deg, -3600, 3600);
     const int extents = o.shape == ShapeType::kPanel ? 2 : 3;
     for (int k = 0; k < extents; ++k) requireRange(p, n + "size_m[" + std::to_string(k) + "]", o.size_m[k], 0.005, 50);
-    requireRange(p, n + "motion.bob_period_s", o.motion.bob_period_s, 0.1, 1e6);
+    requireMotion(p, n + "motion.", o.motion);
     if (o.colour.empty()) p.push_back(n + "colour: empty");
     for (std::size_t j = 0; j < i; ++j) {
       if (objects[j].name == o.name) p.push_back(n + "name: '" + o.name + "' is used twice");
     }
   }
-  requireRange(p, "camera_motion.bob_period_s", camera_motion.bob_period_s, 0.1, 1e6);
-  requireRange(p, "camera_motion.yaw_amplitude_deg", camera_motion.yaw_amplitude_deg, -360, 360);
-  requireRange(p, "camera_motion.yaw_period_s", camera_motion.yaw_period_s, 0.1, 1e6);
+  requireMotion(p, "camera_motion.", camera_motion);
   return p;
 }
 

@@ -18,6 +18,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "random_evaluation.h"
@@ -46,7 +47,8 @@ const char* kUsage =
     "    hand-made rules, the config's shape.model_file not read (the records a new shape model learns from,\n"
     "    also when the shape features changed and the old model is refused).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
-    "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n";
+    "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
+    "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered).\n";
 
 struct Stats {
   int frames = 0, eligible = 0, found = 0, false_detections = 0, shape_eligible = 0, shape_correct = 0;
@@ -147,15 +149,16 @@ void merge(Stats& into, const Stats& s) {
   append(into.ms, s.ms);
 }
 
-int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::string>& scenes, int frames, double rate) {
+int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::pair<std::string, sim::Scene>>& scenes, int frames,
+                       double rate) {
   std::vector<std::string> designated;
   for (const auto& c : config.colours.classes) designated.push_back(c.name);
   Stats all;
   std::cout << "| scene | frames | objects | recall % | false/frame | range err median % | range err p95 % |"
                " position err p95 % | size err median % (<= 3 m) | shape correct % | detector ms (median) |\n"
                "|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& path : scenes) {
-    const sim::Renderer renderer(sim::loadSceneFile(path));
+  for (const auto& [path, scene] : scenes) {
+    const sim::Renderer renderer(scene);
     Detector detector(config, renderer.calibration());
     Stats s;
     for (int k = 0; k < frames; ++k) {
@@ -408,14 +411,35 @@ int main(int argc, char** argv) {
     std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
     return 2;
   }
+  // The configuration and every scene file are read before anything is rendered: a bad one is named at once.
+  DetectorConfig config;
+  std::vector<std::pair<std::string, sim::Scene>> scene_files;
+  {
+    std::vector<std::string> problems;
+    try {
+      config = shape_rules ? withoutShapeModel(config_path) : loadDetectorConfigFile(config_path);
+    } catch (const std::exception& e) {
+      problems.push_back(e.what());
+    }
+    for (const auto& path : scenes) {
+      try {
+        scene_files.emplace_back(path, sim::loadSceneFile(path));
+      } catch (const std::exception& e) {
+        problems.push_back(e.what());
+      }
+    }
+    if (!problems.empty()) {
+      for (const auto& p : problems) std::cerr << "evaluate_detector: " << p << "\n";
+      return 2;
+    }
+  }
   try {
-    const DetectorConfig config = shape_rules ? withoutShapeModel(config_path) : loadDetectorConfigFile(config_path);
     // The records say how shapes were decided (their "config").
     if (random.pairs > 0) {
       return evaluateRandom(config, shape_rules ? config_path + " --shape-rules" : config_path, sampler, random);
     }
     if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);
-    return evaluateSceneFiles(config, scenes, frames, rate);
+    return evaluateSceneFiles(config, scene_files, frames, rate);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n";
     return 1;

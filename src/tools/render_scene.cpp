@@ -6,6 +6,7 @@
 #include <cv_bridge/cv_bridge.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <ros/names.h>
 #include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
@@ -97,6 +98,11 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
   else if (o.bag.empty() && o.png_dir.empty()) error = "give --bag and/or --png-dir";
   else if (o.frames < 1) error = "--frames must be >= 1";
   else if (!(o.rate_hz > 0.0)) error = "--rate must be > 0";
+  else if (std::string why; !ros::names::validate(o.ns, why)) error = "--namespace '" + o.ns + "': " + why;
+  // ros::Time holds 0 .. 2^32 s; the last frame's stamp must fit too.
+  else if (!(o.start_time_s >= 0 && o.start_time_s + o.frames / o.rate_hz < 4294967295.0)) {
+    error = "--start-time must lie in [0, 2^32) s with its frames (got " + std::to_string(o.start_time_s) + ")";
+  }
   return error.empty();
 }
 
