@@ -4,6 +4,8 @@
 #include <opencv2/core/utility.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <cstdio>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <thread>
@@ -216,6 +218,24 @@ TEST(DetectorConfig, ShippedFileIsValidAndHasThePaperDefaults) {
   ASSERT_GE(c.colours.classes.size(), 2U);
   EXPECT_EQ(c.colours.classes[0].name, "red");
   EXPECT_GT(c.colours.classes[0].hue_min, c.colours.classes[0].hue_max) << "red wraps through 0";
+}
+
+// yaml-cpp keeps both values of a repeated key and a lookup gives the first: an edit appended to a file (the
+// second value) would be ignored without a word. A file with a repeated key is refused, naming key and lines.
+TEST(DetectorConfig, AKeyGivenTwiceIsRefusedNamingItsLines) {
+  const std::string path = ::testing::TempDir() + "/twice.yaml";
+  std::ofstream(path) << "search_scale: 0.5\nstereo: {min_depth_m: 0.3, min_depth_m: 0.4}\ncolours: [{name: red}]\n"
+                         "search_scale: 0.05\n";
+  try {
+    loadDetectorConfigFile(path);
+    ADD_FAILURE() << "a repeated key was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(path + ": keys given twice (2 problems)"), std::string::npos) << m;
+    EXPECT_NE(m.find("key 'search_scale' twice (lines 1 and 4)"), std::string::npos) << m;
+    EXPECT_NE(m.find("key 'stereo.min_depth_m' twice (lines 2 and 2)"), std::string::npos) << m;
+  }
+  std::remove(path.c_str());
 }
 
 TEST(DetectorConfig, ListsEveryProblem) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <utility>
 
 namespace underwater_stereo {
 
@@ -68,6 +69,37 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
   out << heading << " (" << problems.size() << (problems.size() == 1 ? " problem" : " problems") << "):";
   for (const auto& p : problems) out << "\n  - " << p;
   return out.str();
+}
+
+namespace {
+
+void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::vector<std::string>& out) {
+  if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i) collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out);
+    return;
+  }
+  if (!node.IsMap()) return;
+  std::vector<std::pair<std::string, int>> seen;  // key, line
+  for (const auto& entry : node) {
+    const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "(not a plain key)";
+    const int line = entry.first.Mark().line + 1;
+    const std::string name = path.empty() ? key : path + "." + key;
+    const auto first = std::find_if(seen.begin(), seen.end(), [&](const auto& s) { return s.first == key; });
+    if (first != seen.end()) {
+      out.push_back("key '" + name + "' twice (lines " + std::to_string(first->second) + " and " + std::to_string(line) + ")");
+    } else {
+      seen.emplace_back(key, line);
+    }
+    collectRepeatedKeys(entry.second, name, out);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> repeatedKeys(const YAML::Node& node) {
+  std::vector<std::string> out;
+  collectRepeatedKeys(node, "", out);
+  return out;
 }
 
 }  // namespace underwater_stereo

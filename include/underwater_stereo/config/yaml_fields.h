@@ -86,7 +86,12 @@ inline const char* YamlFields::typeName<std::vector<double>>() { return "a list 
 /// Joins problems into one message, one per line, for an exception or a log.
 std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems);
 
-/// Loads the YAML file at `path` and hands its root to `parse`. @throw std::invalid_argument naming the
+/// Every key that a map of `node` (or of a map or list within it) holds twice: yaml-cpp keeps both and a lookup
+/// gives the first, so the second value, often the edit, would be ignored without a word. One line each:
+/// "key 'a.b' twice (lines 3 and 9)".
+std::vector<std::string> repeatedKeys(const YAML::Node& node);
+
+/// Loads the YAML file at `path`, refuses it when a key is repeated (repeatedKeys), and hands its root to `parse`. @throw std::invalid_argument naming the
 /// file (and `what` it should hold) when it cannot be read or parsed, or with `parse`'s message prefixed by
 /// the path (a yaml-cpp exception that escapes `parse` included).
 template <typename Parse>
@@ -97,6 +102,8 @@ auto parseYamlFile(const std::string& path, const std::string& what, Parse parse
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.what());
   }
+  const std::vector<std::string> repeated = repeatedKeys(root);
+  if (!repeated.empty()) throw std::invalid_argument(joinProblems(path + ": keys given twice", repeated));
   try {
     return parse(root);
   } catch (const std::invalid_argument& e) {
