@@ -34,4 +34,9 @@ TEST(DetectionJson, WritesTheMessageFieldNamesEscapesStringsAndNullsNonFiniteNum
   EXPECT_EQ(flat.find("\"range\""), std::string::npos);
   EXPECT_EQ(flat.find("\"shape\""), std::string::npos);
   EXPECT_NE(emptyFrameJson("x.jpg", q).find("\"id\": null"), std::string::npos);
+  // A file name in another encoding than UTF-8: each stray byte becomes U+FFFD, UTF-8 is kept as it is.
+  EXPECT_NE(emptyFrameJson("b\xe4r_\xc3\xa4_\xed\xa0\x80_\xf0\x9f\x90\x9f.jpg", q)
+                .find("\"file\": \"b\\ufffdr_\xc3\xa4_\\ufffd\\ufffd\\ufffd_\xf0\x9f\x90\x9f.jpg\""),
+            std::string::npos)
+      << emptyFrameJson("b\xe4r_\xc3\xa4_\xed\xa0\x80_\xf0\x9f\x90\x9f.jpg", q);
 }
