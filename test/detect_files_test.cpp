@@ -92,6 +92,12 @@ TEST_F(DetectFiles, ImageModeAndListFileGiveTwoDimensionalDetections) {
   int flat = 0;
   for (const auto& l : r.lines) flat += l.find("\"range\"") == std::string::npos;
   EXPECT_EQ(flat, static_cast<int>(pair_.ground_truth.size()));
+  // A path with spaces, in double quotes; a folder given as the list is refused.
+  std::filesystem::copy_file(path("left.png"), path("left copy.png"));
+  std::ofstream(path("spaced.txt")) << "\"" << path("left copy.png") << "\"\n";
+  EXPECT_EQ(run("--list " + path("spaced.txt")).lines.size(), pair_.ground_truth.size());
+  EXPECT_EQ(run("--list " + dir_.string()).status, 2);
+  std::filesystem::remove(path("left copy.png"));
   const ToolRun image = run("--image '" + path("left*.png") + "'");  // a quoted glob
   ASSERT_EQ(image.status, 0);
   EXPECT_EQ(image.lines.size(), pair_.ground_truth.size());

@@ -3,7 +3,9 @@
 #include <glob.h>
 #include <ros/package.h>
 
+#include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
@@ -27,7 +29,8 @@ const char* kUsage =
     "  --left/--right  image files or quoted glob patterns ('dir/left_*.png'); matched in sorted order\n"
     "  --left-info     camera_info YAML as camera_calibration writes it (also --right-info)\n"
     "  --image         2D only: no right image, no calibration (colour, outline, roi, quality); repeatable\n"
-    "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments\n"
+    "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments;\n"
+    "                  a path with spaces in double quotes\n"
     "  --config        detector configuration (default: the package's config/detector.yaml)\n"
     "  --explain       also one line per region looked at and not reported, with why: {\"file\", \"rejected\":\n"
     "                  {\"colour\", \"roi\", \"confidence\", \"stage\", \"reason\"}}\n"
@@ -82,6 +85,10 @@ Options parse(int argc, char** argv) {
     else throw std::invalid_argument("unknown option " + arg);
   }
   if (!o.list.empty()) {
+    std::error_code error;
+    if (std::filesystem::is_directory(o.list, error)) {
+      throw std::invalid_argument("--list " + o.list + " is a folder: give a text file naming one frame per line");
+    }
     std::ifstream in(o.list);
     if (!in) throw std::invalid_argument("cannot read the list file " + o.list);
     std::string line;
@@ -89,9 +96,12 @@ Options parse(int argc, char** argv) {
       if (line.empty() || line[0] == '#') continue;
       std::istringstream words(line);
       std::string a, b, extra;
-      words >> a >> b >> extra;
+      words >> std::quoted(a) >> std::quoted(b) >> std::quoted(extra);  // "a path with spaces" in double quotes
       if (a.empty()) continue;
-      if (!extra.empty()) throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": more than two files");
+      if (!extra.empty()) {
+        throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": more than two files (a path with spaces "
+                                    "goes in double quotes)");
+      }
       if (b.empty()) {
         o.images.push_back(a);
       } else {
