@@ -73,3 +73,33 @@ TEST(SilhouetteDepth, IgnoresMissingSilhouettesAndUnknownShapes) {
   unknown.shape = ShapeKind::kUnknown;
   EXPECT_FALSE(placeAtSilhouetteDepth(unknown, c.disparityAtDepth(2.1), c));
 }
+
+// A tube lying across the view with neither cap facing the camera shows the near halves of its end rims: its axis
+// is put pi/4 of a radius behind the silhouette's depth. Slid along its axis until a cap faces the camera, the ends
+// balance and only its sides (tangent lines, R^2 / d in front of the axis) count; so too when the border cuts it.
+TEST(SilhouetteDepth, ATubesEndsCountOnlyWhenBothCapsFaceAway) {
+  const StereoCalibration c = headCalibration();
+  const Eigen::Matrix3d r = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(c.left.R.val);
+  auto tube = [&](double x) {  // 0.2 m across, 0.6 m long, along the rectified x axis, its centre at depth 2 m
+    ShapeFit fit;
+    fit.shape = ShapeKind::kCylinder;
+    fit.centre = r.transpose() * Eigen::Vector3d(x, 0, 2.0);
+    fit.size = Eigen::Vector3d(0.2, 0.2, 0.6);
+    fit.orientation = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), r.transpose() * Eigen::Vector3d::UnitX());
+    return fit;
+  };
+  const double silhouette = c.disparityAtDepth(1.9);
+  ShapeFit ends_away = tube(0.1);  // |centre . axis| = 0.1 < 0.3: both caps face away
+  ASSERT_TRUE(placeAtSilhouetteDepth(ends_away, silhouette, c));
+  EXPECT_NEAR(rectifiedDepth(ends_away, c), 1.9 + M_PI / 4 * 0.1 * 1.9 / 2.0, 1e-6);
+  auto sides_only = [](double x, double z) {
+    const double radius = 0.1 * 1.9 / 2.0, d = std::hypot(x, 2.0) * 1.9 / 2.0;
+    return z / (1 - radius * radius / (d * d));
+  };
+  ShapeFit cap_facing = tube(0.5);  // 0.5 > 0.3: the cap at x = 0.2 faces the camera
+  ASSERT_TRUE(placeAtSilhouetteDepth(cap_facing, silhouette, c));
+  EXPECT_NEAR(rectifiedDepth(cap_facing, c), sides_only(0.5, 1.9), 1e-6);
+  ShapeFit cut = tube(0.1);
+  ASSERT_TRUE(placeAtSilhouetteDepth(cut, silhouette, c, true));
+  EXPECT_NEAR(rectifiedDepth(cut, c), sides_only(0.1, 1.9), 1e-6);
+}

@@ -16,10 +16,12 @@ namespace underwater_stereo {
 constexpr double kMaxSilhouetteShiftInExtents = 0.75;
 
 /// Moves `fit` along its viewing ray to the depth its silhouette's `disparity` [px] gives (the angular size
-/// stays: centre and size scale together). Stereo surfaces are smoothed towards the object's rim, the silhouette
-/// is not. Left as it is, and false returned, when the disparity is not finite and positive, the shape unknown,
-/// the centre not in front of the rectified camera, or the move longer than kMaxSilhouetteShiftInExtents of the
-/// fit's largest size.
-bool placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration);
+/// stays: centre and size scale together), the silhouette taken as the outline a sphere or tube of the fit's
+/// pose would show (`cut_by_border`: the image border cuts the outline, so a tube shows at most one end). Stereo
+/// surfaces are smoothed towards the object's rim, the silhouette is not. Left as it is, and false returned, when
+/// the disparity is not finite and positive, the shape unknown, the centre not in front of the rectified camera,
+/// or the move longer than kMaxSilhouetteShiftInExtents of the fit's largest size.
+bool placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibration& calibration,
+                            bool cut_by_border = false);
 
 }  // namespace underwater_stereo
