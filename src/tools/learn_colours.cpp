@@ -2,6 +2,7 @@
 // learn_colours: learns the designated colours from labelled frames (Pascal VOC boxes) and writes a complete
 // detector configuration using the learnt colour model; reports k-fold cross-validation by frame.
 #include <dirent.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -147,6 +148,16 @@ Options parse(int argc, char** argv) {
     }
   }
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
+  {  // checked now, not after a cross-validation that can take many minutes
+    std::error_code error;
+    if (std::filesystem::is_directory(o.out, error)) {
+      throw std::invalid_argument("--out " + o.out + " is a folder: give the configuration file to write (FILE.yaml)");
+    }
+    const std::filesystem::path folder = std::filesystem::absolute(o.out, error).parent_path();
+    if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK) != 0) {
+      throw std::invalid_argument("--out " + o.out + ": its folder " + folder.string() + " is not a writable folder");
+    }
+  }
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {
     throw std::invalid_argument("--choose-thresholds needs cross-validation (--folds 2 or more)");
@@ -379,6 +390,10 @@ int main(int argc, char** argv) {
   }
   try {
     const std::vector<LabelledFrame> frames = readFrames(o);
+    if (o.folds > static_cast<int>(frames.size())) {
+      throw std::invalid_argument("--folds " + std::to_string(o.folds) + " needs at least as many frames; " +
+                                  std::to_string(frames.size()) + " were read");
+    }
     checkLabels(frames, o.learning);
     // Proposals are the detector's own, with the base's search settings.
     DetectorConfig proposer_config = base;
