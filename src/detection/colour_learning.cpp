@@ -76,18 +76,18 @@ std::vector<LabelBox> readVocLabels(const std::string& path) {
     for (int k = 0; k < 4; ++k) {
       const tinyxml2::XMLElement* field = box->FirstChildElement(keys[k]);
       if (!field) throw std::invalid_argument(named + " has no <" + keys[k] + ">");
-      const std::string text = trimmed(field->GetText() ? field->GetText() : "");
+      const std::string value = trimmed(field->GetText() ? field->GetText() : "");
       std::size_t used = 0;
       try {
-        v[k] = std::stod(text, &used);
+        v[k] = std::stod(value, &used);
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used == 0 || used != text.size() || !std::isfinite(v[k])) {
-        throw std::invalid_argument(named + ": <" + keys[k] + "> '" + text + "' is not a number");
+      if (used == 0 || used != value.size() || !std::isfinite(v[k])) {
+        throw std::invalid_argument(named + ": <" + keys[k] + "> '" + value + "' is not a number");
       }
       if (std::abs(v[k]) > kMaxImageSidePx) {  // beyond any image, and beyond an int once rounded
-        throw std::invalid_argument(named + ": <" + keys[k] + "> " + text + " lies beyond any image (|value| > " +
+        throw std::invalid_argument(named + ": <" + keys[k] + "> " + value + " lies beyond any image (|value| > " +
                                     std::to_string(kMaxImageSidePx) + ")");
       }
     }

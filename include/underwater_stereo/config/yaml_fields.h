@@ -91,9 +91,10 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
 /// "key 'a.b' twice (lines 3 and 9)".
 std::vector<std::string> repeatedKeys(const YAML::Node& node);
 
-/// Loads the YAML file at `path`, refuses it when a key is repeated (repeatedKeys), and hands its root to `parse`. @throw std::invalid_argument naming the
-/// file (and `what` it should hold) when it cannot be read or parsed, or with `parse`'s message prefixed by
-/// the path (a yaml-cpp exception that escapes `parse` included).
+/// Loads the YAML file at `path`, refuses it when a key is repeated (repeatedKeys), and hands its root to
+/// `parse`. @throw std::invalid_argument naming the file (and `what` it should hold) when it cannot be read or
+/// parsed or repeats a key, or with `parse`'s message prefixed by the path (a yaml-cpp exception that escapes
+/// `parse` included).
 template <typename Parse>
 auto parseYamlFile(const std::string& path, const std::string& what, Parse parse) {
   YAML::Node root;

@@ -30,8 +30,10 @@ double boxIou(const cv::Rect& a, const cv::Rect& b);
 /// Whether the centre of `roi` lies in `box` (edges included): how a detection finds a label.
 bool centreInside(const cv::Rect& roi, const cv::Rect& box);
 
-/// The `<object>`s of a Pascal VOC annotation file. @throw std::invalid_argument naming the file (and the
-/// object's number and name) when it cannot be read, is not VOC XML, or a box is empty or not a number.
+/// The `<object>`s of a Pascal VOC annotation file (read as XML: comments, attributes and a `<part>`'s own box
+/// are no objects). @throw std::invalid_argument naming the file (and the object's number and name) when it
+/// cannot be read, is not VOC XML, or a box is empty, not a number, beyond any image (16384 px) or another
+/// object's box too.
 std::vector<LabelBox> readVocLabels(const std::string& path);
 
 /// A frame to learn from: its image and labels.
