@@ -75,7 +75,9 @@ namespace {
 
 void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::vector<std::string>& out) {
   if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i) collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out);
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out);
+    }
     return;
   }
   if (!node.IsMap()) return;
@@ -86,7 +88,8 @@ void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::v
     const std::string name = path.empty() ? key : path + "." + key;
     const auto first = std::find_if(seen.begin(), seen.end(), [&](const auto& s) { return s.first == key; });
     if (first != seen.end()) {
-      out.push_back("key '" + name + "' twice (lines " + std::to_string(first->second) + " and " + std::to_string(line) + ")");
+      out.push_back("key '" + name + "' twice (lines " + std::to_string(first->second) + " and " +
+                    std::to_string(line) + ")");
     } else {
       seen.emplace_back(key, line);
     }

@@ -35,8 +35,8 @@ void checkStoredForest(const cv::FileNode& forest, int feature_count, const std:
   const int var_all = integer(forest["var_all"], "var_all"), var_count = integer(forest["var_count"], "var_count");
   if (var_count != feature_count || var_all != feature_count + 1) {
     throw std::invalid_argument(what + "forest of " + std::to_string(var_count) + " features and " +
-                                std::to_string(var_all - var_count) + " responses, not " + std::to_string(feature_count) +
-                                " and 1");
+                                std::to_string(var_all - var_count) + " responses, not " +
+                                std::to_string(feature_count) + " and 1");
   }
   const cv::FileNode var_idx = forest["var_idx"], var_type = forest["var_type"];
   if (!var_type.isSeq() || static_cast<int>(var_type.size()) != var_all) {
@@ -48,7 +48,8 @@ void checkStoredForest(const cv::FileNode& forest, int feature_count, const std:
     }
     for (const cv::FileNode& v : var_idx) {
       if (!v.isInt() || static_cast<int>(v) < 0 || static_cast<int>(v) >= var_count) {
-        throw std::invalid_argument(what + "forest: var_idx names a feature outside [0, " + std::to_string(var_count) + ")");
+        throw std::invalid_argument(what + "forest: var_idx names a feature outside [0, " +
+                                    std::to_string(var_count) + ")");
       }
     }
   }

@@ -84,7 +84,9 @@ SceneObject parseObject(YamlFields& f, const YAML::Node& node, const std::string
 }
 
 void requireRange(std::vector<std::string>& problems, const std::string& name, double value, double lo, double hi) {
-  if (!(value >= lo && value <= hi)) problems.push_back(name + " = " + cv::format("%g is outside [%g, %g]", value, lo, hi));
+  if (!(value >= lo && value <= hi)) {
+    problems.push_back(name + " = " + cv::format("%g is outside [%g, %g]", value, lo, hi));
+  }
 }
 
 void requireRange3(std::vector<std::string>& problems, const std::string& name, const Eigen::Vector3d& v, double lo,

@@ -149,8 +149,8 @@ void merge(Stats& into, const Stats& s) {
   append(into.ms, s.ms);
 }
 
-int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::pair<std::string, sim::Scene>>& scenes, int frames,
-                       double rate) {
+int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::pair<std::string, sim::Scene>>& scenes,
+                       int frames, double rate) {
   std::vector<std::string> designated;
   for (const auto& c : config.colours.classes) designated.push_back(c.name);
   Stats all;
