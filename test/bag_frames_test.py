@@ -164,10 +164,10 @@ class BagFramesTest(unittest.TestCase):
         truncated = self.path("truncated.bag")
         with open(truncated, "wb") as f:
             f.write(data[:len(data) // 2])
-        damaged = self.path("damaged.bag")  # index intact, the chunk's first record header overwritten
+        damaged = self.path("damaged.bag")  # index intact, a message record's op code made one rosbag does not know
         at = data.index(b"op=\x02")
         with open(damaged, "wb") as f:
-            f.write(data[:at - 8] + b"\xff" * 64 + data[at + 56:])
+            f.write(data[:at] + b"op=\x7f" + data[at + 4:])
         not_a_bag = self.path("notes.bag")
         with open(not_a_bag, "w") as f:
             f.write("not a bag\n")

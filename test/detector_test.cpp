@@ -91,6 +91,12 @@ TEST(Detector, ABuoyPartlyOutOfViewIsReportedCutByTheBorder) {
 // alone, a tube lying across is 3-6 % too near). Not here: a short tube turned 30 degrees, whose fit reads its
 // turn too small and so counts its ends (2.5 m, 0.24 x 0.3 m: 3.8 % too far; docs/accuracy.md).
 TEST(Detector, ATubeIsCentredOnItsAxisLyingStandingOrTurned) {
+  // One OpenCV thread, as the nodelet's workers run: block matching's stripes, and so its result, depend on it.
+  struct OneOpenCvThread {
+    const int before = cv::getNumThreads();
+    OneOpenCvThread() { cv::setNumThreads(1); }
+    ~OneOpenCvThread() { cv::setNumThreads(before); }
+  } one_thread;
   struct Pose {
     Eigen::Vector3d rpy_deg;
     double z, diameter, length;
@@ -238,6 +244,9 @@ TEST(DetectorConfig, AKeyGivenTwiceIsRefusedNamingItsLines) {
     EXPECT_NE(m.find("key 'search_scale' twice (lines 1 and 4)"), std::string::npos) << m;
     EXPECT_NE(m.find("key 'stereo.min_depth_m' twice (lines 2 and 2)"), std::string::npos) << m;
   }
+  // A map holding an alias of itself is walked once (it was an endless recursion), and refused by the reader.
+  std::ofstream(path) << "colours: [{name: red}]\nstereo: &x {min_depth_m: 0.3, again: *x}\n";
+  EXPECT_THROW(loadDetectorConfigFile(path), std::invalid_argument);
   std::remove(path.c_str());
 }
 

@@ -83,4 +83,15 @@ TEST(ForestVotes, AStoredForestSplittingOnAFeatureItHasNotIsRefusedBeforeOpenCVR
       EXPECT_NE(std::string(e.what()).find("m.yml: forest: tree 0 node 0 splits on feature"), std::string::npos) << e.what();
     }
   }
+  // A feature made categorical, and a split on a category (OpenCV writes out of bounds reading its subset).
+  std::string categorical = text;
+  const std::string first_type = "var_type: [ 0";
+  const std::size_t types = categorical.find(first_type);
+  ASSERT_NE(types, std::string::npos) << text.substr(0, 600);
+  categorical.replace(types, first_type.size(), "var_type: [ 1");
+  EXPECT_THROW(checkStoredForest(stored(categorical)["forest"], 6, "m.yml: "), std::invalid_argument);
+  std::string category = text;
+  const std::size_t var = category.find("var:");
+  category.insert(var, "in:[ 0 ], ");
+  EXPECT_THROW(checkStoredForest(stored(category)["forest"], 6, "m.yml: "), std::invalid_argument);
 }

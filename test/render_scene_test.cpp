@@ -67,3 +67,13 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
   EXPECT_EQ(run("--random 2"), 2);                                       // no --out
   fs::remove_all(out);
 }
+
+// A start time or namespace a bag cannot hold is refused before anything is rendered (exit 2, nothing written).
+TEST(RenderScene, StampsAndTopicsABagCannotHoldAreRefused) {
+  const fs::path bag = fs::temp_directory_path() / ("render_scene_refused_" + std::to_string(::getpid()) + ".bag");
+  const std::string scene = " --scene " UWS_SOURCE_DIR "/test/scenes/small_pool.yaml --frames 1 --bag " + bag.string();
+  for (const char* bad : {"--start-time nan", "--start-time -5", "--start-time 1e300", "--namespace 'bad name!'"}) {
+    EXPECT_EQ(run(std::string(bad) + scene), 2) << bad;
+    EXPECT_FALSE(fs::exists(bag)) << bad;
+  }
+}

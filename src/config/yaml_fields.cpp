@@ -73,14 +73,19 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
 
 namespace {
 
-void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::vector<std::string>& out) {
+/// `visited`: the maps and lists already walked. An alias makes a node appear again, and an anchor on a map that
+/// holds its own alias (`a: &x {b: *x}`) a node that contains itself: each is walked once.
+void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::vector<std::string>& out,
+                         std::vector<YAML::Node>& visited) {
+  if (!node.IsSequence() && !node.IsMap()) return;
+  if (std::any_of(visited.begin(), visited.end(), [&](const YAML::Node& v) { return v.is(node); })) return;
+  visited.push_back(node);
   if (node.IsSequence()) {
     for (std::size_t i = 0; i < node.size(); ++i) {
-      collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out);
+      collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out, visited);
     }
     return;
   }
-  if (!node.IsMap()) return;
   std::vector<std::pair<std::string, int>> seen;  // key, line
   for (const auto& entry : node) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "(not a plain key)";
@@ -93,7 +98,7 @@ void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::v
     } else {
       seen.emplace_back(key, line);
     }
-    collectRepeatedKeys(entry.second, name, out);
+    collectRepeatedKeys(entry.second, name, out, visited);
   }
 }
 
@@ -101,7 +106,8 @@ void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::v
 
 std::vector<std::string> repeatedKeys(const YAML::Node& node) {
   std::vector<std::string> out;
-  collectRepeatedKeys(node, "", out);
+  std::vector<YAML::Node> visited;
+  collectRepeatedKeys(node, "", out, visited);
   return out;
 }
 

@@ -38,19 +38,30 @@ void checkStoredForest(const cv::FileNode& forest, int feature_count, const std:
                                 std::to_string(var_all - var_count) + " responses, not " +
                                 std::to_string(feature_count) + " and 1");
   }
+  // Every feature ordered (0), the response a class (1): a categorical split reads a subset OpenCV does not check.
   const cv::FileNode var_idx = forest["var_idx"], var_type = forest["var_type"];
   if (!var_type.isSeq() || static_cast<int>(var_type.size()) != var_all) {
     throw std::invalid_argument(what + "forest: var_type does not list " + std::to_string(var_all) + " variables");
+  }
+  for (int i = 0; i < var_all; ++i) {
+    const cv::FileNode t = var_type[i];
+    if (!t.isInt() || static_cast<int>(t) != (i < var_count ? 0 : 1)) {
+      throw std::invalid_argument(what + "forest: variable " + std::to_string(i) + " is not " +
+                                  (i < var_count ? "an ordered feature" : "the class"));
+    }
   }
   if (!var_idx.empty()) {
     if (!var_idx.isSeq() || static_cast<int>(var_idx.size()) != var_count) {
       throw std::invalid_argument(what + "forest: var_idx does not list " + std::to_string(var_count) + " features");
     }
+    std::vector<bool> listed(static_cast<std::size_t>(var_count), false);
     for (const cv::FileNode& v : var_idx) {
-      if (!v.isInt() || static_cast<int>(v) < 0 || static_cast<int>(v) >= var_count) {
-        throw std::invalid_argument(what + "forest: var_idx names a feature outside [0, " +
-                                    std::to_string(var_count) + ")");
+      const int k = v.isInt() ? static_cast<int>(v) : -1;
+      if (k < 0 || k >= var_count || listed[k]) {
+        throw std::invalid_argument(what + "forest: var_idx is not each of the " + std::to_string(var_count) +
+                                    " features once");
       }
+      listed[k] = true;
     }
   }
   const cv::FileNode trees = forest["trees"];
@@ -61,6 +72,10 @@ void checkStoredForest(const cv::FileNode& forest, int feature_count, const std:
     for (const cv::FileNode& node : tree["nodes"]) {
       for (const cv::FileNode& split : node["splits"]) {
         const int var = split["var"].isInt() ? static_cast<int>(split["var"]) : -1;
+        if (!split["in"].empty() || !split["not_in"].empty()) {
+          throw std::invalid_argument(what + "forest: tree " + std::to_string(t) + " node " + std::to_string(n) +
+                                      " splits on a category");
+        }
         if (var < 0 || var >= feature_count) {
           throw std::invalid_argument(what + "forest: tree " + std::to_string(t) + " node " + std::to_string(n) +
                                       " splits on feature " + (split["var"].isInt() ? std::to_string(var) : "(none)") +

@@ -25,9 +25,10 @@ bool placeAtSilhouetteDepth(ShapeFit& fit, double disparity, const StereoCalibra
     if (fit.shape == ShapeKind::kCylinder && !cut_by_border) {
       // Its ends count by cos^2. An end whose cap faces away from the camera shows the near half of its rim,
       // pi/4 of a radius (times the axis' share across the view) in front of the axis on average; a cap facing
-      // the camera shows its far half, and then the two ends balance. Neither cap faces the camera when the
-      // centre lies within half the length of the plane through the camera across the axis. A tube cut by the
-      // border has at most one end in view: only its sides count.
+      // the camera shows its far half, the two ends balance about the axis, and the tube is taken as its sides
+      // (R^2 / d: the difference is below that). Neither cap faces the camera when the centre lies within half
+      // the length of the plane through the camera across the axis. A tube cut by the border has at most one end
+      // in view: taken as its sides too.
       const Eigen::Vector3d axis = r * (fit.orientation * Eigen::Vector3d::UnitZ());
       const double in_image = std::hypot(axis.x(), axis.y());
       const bool caps_face_away = std::abs((r * fit.centre).dot(axis)) < fit.size.z() / 2;

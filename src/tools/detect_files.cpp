@@ -30,7 +30,7 @@ const char* kUsage =
     "  --left-info     camera_info YAML as camera_calibration writes it (also --right-info)\n"
     "  --image         2D only: no right image, no calibration (colour, outline, roi, quality); repeatable\n"
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments;\n"
-    "                  a path with spaces in double quotes\n"
+    "                  a path with spaces in double quotes (inside them a backslash escapes the next character)\n"
     "  --config        detector configuration (default: the package's config/detector.yaml)\n"
     "  --explain       also one line per region looked at and not reported, with why: {\"file\", \"rejected\":\n"
     "                  {\"colour\", \"roi\", \"confidence\", \"stage\", \"reason\"}}\n"

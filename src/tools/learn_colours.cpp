@@ -157,6 +157,9 @@ Options parse(int argc, char** argv) {
     if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK) != 0) {
       throw std::invalid_argument("--out " + o.out + ": its folder " + folder.string() + " is not a writable folder");
     }
+    if (std::filesystem::exists(o.out, error) && ::access(o.out.c_str(), W_OK) != 0) {
+      throw std::invalid_argument("--out " + o.out + " exists and cannot be written");
+    }
   }
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {

@@ -10,9 +10,9 @@ namespace underwater_stereo {
 /// How far the silhouette may place an object from where its 3D points put it, in its own largest extent: a
 /// surface lies within an extent of its centre, so a silhouette that asks for more was matched to another
 /// outline (a neighbour's, or its own cut differently in the two frames). Chosen on the validation seeds
-/// 60000-60299 (docs/accuracy.md, "The silhouette's depth checked against the points"): range error p95 of whole
-/// objects 17.6 % with no limit, 13.7 % at 1, 11.5 % at 0.75 and 0.5, 12.8 % at 0.25; the median 1.26 % up to
-/// 0.75, 1.29 % at 0.5 and 1.82 % at 0.25.
+/// 60000-60299 (docs/accuracy.md, "The silhouette's depth checked against the points"; session 15, before the tube
+/// rule of session 16): range error p95 of whole objects 17.6 % with no limit, 13.7 % at 1, 11.5 % at 0.75 and
+/// 0.5, 12.8 % at 0.25; the median 1.26 % up to 0.75, 1.29 % at 0.5 and 1.82 % at 0.25.
 constexpr double kMaxSilhouetteShiftInExtents = 0.75;
 
 /// Moves `fit` along its viewing ray to the depth its silhouette's `disparity` [px] gives (the angular size
