@@ -69,15 +69,15 @@ TEST(ForestVotes, AStoredForestSplittingOnAFeatureItHasNotIsRefusedBeforeOpenCVR
   out << "}";
   const std::string text = out.releaseAndGetString();
   auto stored = [](const std::string& yaml) { return cv::FileStorage(yaml, cv::FileStorage::READ | cv::FileStorage::MEMORY); };
-  EXPECT_NO_THROW(checkStoredForest(stored(text)["forest"], 6, "m.yml: "));
-  EXPECT_THROW(checkStoredForest(stored(text)["forest"], 5, "m.yml: "), std::invalid_argument);
+  EXPECT_NO_THROW(readStoredForest(stored(text)["forest"], 6, "m.yml: "));
+  EXPECT_THROW(readStoredForest(stored(text)["forest"], 5, "m.yml: "), std::invalid_argument);
   for (const char* bad : {"var:6", "var:7", "var:-1"}) {
     std::string corrupt = text;
     const std::size_t at = corrupt.find("var:");
     ASSERT_NE(at, std::string::npos);
     corrupt.replace(at, corrupt.find(',', at) - at, bad);
     try {
-      checkStoredForest(stored(corrupt)["forest"], 6, "m.yml: ");
+      readStoredForest(stored(corrupt)["forest"], 6, "m.yml: ");
       ADD_FAILURE() << bad << " was accepted";
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("m.yml: forest: tree 0 node 0 splits on feature"), std::string::npos) << e.what();
@@ -89,9 +89,9 @@ TEST(ForestVotes, AStoredForestSplittingOnAFeatureItHasNotIsRefusedBeforeOpenCVR
   const std::size_t types = categorical.find(first_type);
   ASSERT_NE(types, std::string::npos) << text.substr(0, 600);
   categorical.replace(types, first_type.size(), "var_type: [ 1");
-  EXPECT_THROW(checkStoredForest(stored(categorical)["forest"], 6, "m.yml: "), std::invalid_argument);
+  EXPECT_THROW(readStoredForest(stored(categorical)["forest"], 6, "m.yml: "), std::invalid_argument);
   std::string category = text;
   const std::size_t var = category.find("var:");
   category.insert(var, "in:[ 0 ], ");
-  EXPECT_THROW(checkStoredForest(stored(category)["forest"], 6, "m.yml: "), std::invalid_argument);
+  EXPECT_THROW(readStoredForest(stored(category)["forest"], 6, "m.yml: "), std::invalid_argument);
 }

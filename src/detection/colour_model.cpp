@@ -71,9 +71,7 @@ ColourModel ColourModel::load(const std::string& path) {
     }
     m.feature_count_ = static_cast<int>(features.size());
     if (m.colours_.empty()) throw std::invalid_argument("colour model " + path + ": names no colours");
-    checkStoredForest(fs["forest"], m.feature_count_, "colour model " + path + ": ");
-    m.forest_ = cv::ml::RTrees::create();
-    m.forest_->read(fs["forest"]);
+    m.forest_ = readStoredForest(fs["forest"], m.feature_count_, "colour model " + path + ": ");
   } catch (const cv::Exception& e) {
     throw std::invalid_argument("colour model " + path + ": invalid (" + e.msg + ")");
   }

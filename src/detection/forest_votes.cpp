@@ -26,7 +26,7 @@ cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
 
 }  // namespace
 
-void checkStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what) {
+cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what) {
   auto integer = [&](const cv::FileNode& n, const std::string& name) {
     if (!n.isInt()) throw std::invalid_argument(what + "forest: " + name + " is missing or not an integer");
     return static_cast<int>(n);
@@ -86,6 +86,9 @@ void checkStoredForest(const cv::FileNode& forest, int feature_count, const std:
     }
     ++t;
   }
+  cv::Ptr<cv::ml::RTrees> read = cv::ml::RTrees::create();
+  read->read(forest);
+  return read;
 }
 
 ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) {

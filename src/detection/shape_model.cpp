@@ -69,9 +69,7 @@ ShapeModel ShapeModel::load(const std::string& path) {
     std::vector<std::string> expected;
     for (ShapeKind s : kShapes) expected.emplace_back(shapeName(s));
     if (shapes != expected) throw std::invalid_argument(what + "names other shapes than sphere, cylinder, box, plane");
-    checkStoredForest(fs["forest"], kShapeFeatureCount, what);
-    m.forest_ = cv::ml::RTrees::create();
-    m.forest_->read(fs["forest"]);
+    m.forest_ = readStoredForest(fs["forest"], kShapeFeatureCount, what);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(what + "unreadable (" + e.msg + ")");
   }

@@ -30,13 +30,14 @@ inline int minImageSidePx(double search_scale) {
 /// judged before anything multiplies them.
 inline std::string imageSizeProblem(long long width, long long height, double search_scale = 1.0) {
   const int min_side = minImageSidePx(search_scale);
-  if (width >= min_side && height >= min_side && width <= kMaxImageSidePx && height <= kMaxImageSidePx) {
-    if (width * height <= kMaxImagePixels) return "";
-    return "image size " + std::to_string(width) + "x" + std::to_string(height) + " has " +
-           std::to_string(width * height) + " pixels, more than " + std::to_string(kMaxImagePixels) + " (8K UHD)";
+  const bool sides = width >= min_side && height >= min_side && width <= kMaxImageSidePx && height <= kMaxImageSidePx;
+  if (sides && width * height <= kMaxImagePixels) return "";
+  std::string why = "image size " + std::to_string(width) + "x" + std::to_string(height);
+  if (sides) {
+    return why + " has " + std::to_string(width * height) + " pixels, more than " + std::to_string(kMaxImagePixels) +
+           " (8K UHD)";
   }
-  std::string why = "image size " + std::to_string(width) + "x" + std::to_string(height) + " is outside " +
-                    std::to_string(min_side) + ".." + std::to_string(kMaxImageSidePx) + " px per side";
+  why += " is outside " + std::to_string(min_side) + ".." + std::to_string(kMaxImageSidePx) + " px per side";
   if (min_side > kMinImageSidePx) why += " (search_scale " + cv::format("%g", search_scale) + " needs >= " +
                                           std::to_string(min_side) + ")";
   return why;

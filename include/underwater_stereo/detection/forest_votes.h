@@ -17,12 +17,12 @@
 
 namespace underwater_stereo {
 
-/// Checks a forest stored by cv::ml::RTrees::write (the node `forest` of a model file) before OpenCV reads it:
-/// OpenCV checks a split's feature index only against one past the last one and then reads out of bounds with it,
-/// so a corrupt index crashes the reader. `what` names the file in the message.
+/// The forest stored by cv::ml::RTrees::write at `forest` (the node of a model file), read by OpenCV after it has
+/// been checked: OpenCV checks a split's feature index only against one past the last one and then reads out of
+/// bounds with it, so a corrupt index crashed the reader. `what` names the file in the message.
 /// @throw std::invalid_argument naming the tree and node when the sizes and types are not those of `feature_count`
 /// ordered features and a class, or a split names a feature outside [0, feature_count) or a category.
-void checkStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what);
+cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what);
 
 class ForestVotes {
  public:
