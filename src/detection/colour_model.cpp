@@ -17,11 +17,13 @@ constexpr int kBackground = 0;
 }  // namespace
 
 ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& labels,
-                               const std::vector<std::string>& colours, const ColourModelTraining& options) {
+                               const std::vector<std::string>& colours, const ColourModelTraining& options,
+                               const std::vector<std::string>& features) {
   const auto problems = options.validate();
   if (!problems.empty()) throw std::invalid_argument("ColourModel::train: " + problems.front());
-  if (samples.type() != CV_32FC1 || samples.cols != kBlobFeatureCount || samples.rows != static_cast<int>(labels.size())) {
-    throw std::invalid_argument("ColourModel::train: need one CV_32F row of " + std::to_string(kBlobFeatureCount) +
+  const int width = static_cast<int>(features.size());
+  if (samples.type() != CV_32FC1 || width == 0 || samples.cols != width || samples.rows != static_cast<int>(labels.size())) {
+    throw std::invalid_argument("ColourModel::train: need one CV_32F row of " + std::to_string(width) +
                                 " features per label");
   }
   if (colours.empty()) throw std::invalid_argument("ColourModel::train: no colours to learn");
@@ -44,12 +46,14 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   }
   ColourModel m;
   m.colours_ = colours;
+  m.features_ = features;
+  m.feature_count_ = width;
   m.forest_ = trainForest(samples, responses, priors, options);
   m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
   return m;
 }
 
-ColourModel ColourModel::load(const std::string& path) {
+ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names) {
   if (!std::ifstream(path)) throw std::invalid_argument("colour model " + path + ": cannot be opened");
   cv::FileStorage fs;
   try {
@@ -59,15 +63,15 @@ ColourModel ColourModel::load(const std::string& path) {
   }
   if (!fs.isOpened()) throw std::invalid_argument("colour model " + path + ": cannot be opened");
   ColourModel m;
+  m.features_ = names;
   std::vector<std::string> features;
   try {
     fs["colours"] >> m.colours_;
     fs["features"] >> features;
     // A model of an earlier build reads the first of today's features (new ones are only ever appended).
-    const std::vector<std::string>& names = blobFeatureNames();
     if (features.empty() || features.size() > names.size() || !std::equal(features.begin(), features.end(), names.begin())) {
       throw std::invalid_argument("colour model " + path + ": made for other features (" + std::to_string(features.size()) +
-                                  " named; this build computes " + std::to_string(kBlobFeatureCount) + "): learn it again");
+                                  " named; this build computes " + std::to_string(names.size()) + "): learn it again");
     }
     m.feature_count_ = static_cast<int>(features.size());
     if (m.colours_.empty()) throw std::invalid_argument("colour model " + path + ": names no colours");
@@ -88,8 +92,7 @@ void ColourModel::save(const std::string& path) const {
   cv::FileStorage fs(path, cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw std::runtime_error("colour model " + path + ": cannot be written");
   fs << "colours" << colours_;
-  const std::vector<std::string>& names = blobFeatureNames();
-  fs << "features" << std::vector<std::string>(names.begin(), names.begin() + feature_count_);
+  fs << "features" << std::vector<std::string>(features_.begin(), features_.begin() + feature_count_);
   fs << "forest" << "{";
   forest_->write(fs);
   fs << "}";
@@ -98,8 +101,8 @@ void ColourModel::save(const std::string& path) const {
 std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const {
   if (empty()) throw std::invalid_argument("ColourModel::classify: empty model");
   if (features.empty()) return {};
-  if (features.type() != CV_32FC1 || features.cols != kBlobFeatureCount) {
-    throw std::invalid_argument("ColourModel::classify: need CV_32F rows of " + std::to_string(kBlobFeatureCount) +
+  if (features.type() != CV_32FC1 || features.cols != static_cast<int>(features_.size())) {
+    throw std::invalid_argument("ColourModel::classify: need CV_32F rows of " + std::to_string(features_.size()) +
                                 " features, got " + std::to_string(features.cols) + " columns");
   }
   // The best colour is reported with its share even when background has more votes: the caller's threshold
@@ -111,6 +114,13 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
     const auto [label, share] = votes_.best(counts.data(), [](int l) { return l != kBackground; });
     verdicts[i].colour = label < 0 ? -1 : label - 1;
     verdicts[i].confidence = share;
+    int total = 0;
+    for (int n : counts) total += n;
+    verdicts[i].shares.assign(colours_.size() + 1, 0.f);
+    for (std::size_t j = 0; j < counts.size(); ++j) {
+      const int l = votes_.labels()[j];  // kBackground, or colour l - 1
+      if (l >= 0 && l <= static_cast<int>(colours_.size()) && total > 0) verdicts[i].shares[l] = float(counts[j]) / total;
+    }
   }
   return verdicts;
 }

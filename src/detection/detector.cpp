@@ -7,11 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/object_pieces.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
@@ -202,8 +204,25 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
   }
 }
 
+/// Whether the check after stereo (colour_model.check_file) takes `d` for an object: enough of its trees vote for
+/// any colour rather than background (d keeps the colour model's colour). If not, why into `rejected`.
+bool passesCheck(const ColourModel& check, const DetectorConfig& config, const Detection& d, Rejection& rejected) {
+  const ColourVerdict v = check.classify(cv::Mat(1, static_cast<int>(d.check_features.size()), CV_32F,
+                                                 const_cast<float*>(d.check_features.data())))
+                              .front();
+  const double object_share = 1.0 - v.shares.front();  // shares: background first
+  if (object_share >= config.learned.check_min_confidence) return true;
+  rejected.stage = RejectionStage::kCheckAfterStereo;
+  char text[128];
+  std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: %.2f of the votes for an object, under "
+                "colour_model.check_min_confidence %.2f", d.range_m, object_share, config.learned.check_min_confidence);
+  rejected.reason = text;
+  return false;
+}
+
+/// Quality and candidates of `frame`; `for_check`: the learned search passes what the check after stereo is to judge.
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
-                     Stopwatch& watch) {
+                     Stopwatch& watch, bool for_check) {
   FrontEnd out;
   const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config.search_scale);
   out.quality = assessQuality(small, config.quality);
@@ -214,7 +233,8 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     // enhancement or white balance before it.
     out.searched = blurredForSearch(small, search);
     LearnedSearch found =
-        findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates, config.pair_threads);
+        findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates, config.pair_threads,
+                              for_check);
     t.colour_ms = watch.lapMs();
     out.contrast = std::move(found.contrast);
     for (Candidate& c : found.candidates) {
@@ -287,7 +307,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   requireImageSize(frame.size(), config_.search_scale, "Detector::detect2d");
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch, false);
   result.quality = front.quality;
   result.rejected = front.rejected;
   for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame.bgr(c.roi), frame.size(), config_));
@@ -343,6 +363,11 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
   // Stereo noise grows with range: the fit residual is judged against 1 % of it.
   d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
+  if (!c.colour_features.empty()) {
+    d.check_features = checkFeatures(c.colour_features, {d.range_m, fit.size.maxCoeff(), fit.size.minCoeff(),
+                                                         static_cast<int>(d.shape), d.cut_by_border, d.fit_rmse_m, matched});
+  }
+  if (config_.learned.check && !passesCheck(*config_.learned.check, config_, d, rejected)) return std::nullopt;
   return d;
 }
 
@@ -359,7 +384,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   }
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(left, config_, search_config_, result.timings, watch);
+  const FrontEnd front = runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
   result.quality = front.quality;
   result.rejected = front.rejected;
   if (front.candidates.empty()) {

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
+#include "underwater_stereo/detection/detection_check.h"
 
 namespace underwater_stereo {
 namespace {
@@ -221,13 +222,18 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     f.optional(n, "dark_objects", "candidates.", c.candidates.dark_objects);
   }
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
-    f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, max_proposals}");
+    f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, "
+           "max_proposals, check_file, check_min_confidence, check_from_confidence}");
   } else if (m) {
     f.onlyKeys(m, "colour_model.",
-               {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels", "max_proposals"});
+               {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels", "max_proposals",
+                "check_file", "check_min_confidence", "check_from_confidence"});
     LearnedColourConfig& l = c.learned;
     f.optional(m, "file", "colour_model.", l.file);
     f.optional(m, "min_confidence", "colour_model.", l.min_confidence);
+    f.optional(m, "check_file", "colour_model.", l.check_file);
+    f.optional(m, "check_min_confidence", "colour_model.", l.check_min_confidence);
+    f.optional(m, "check_from_confidence", "colour_model.", l.check_from_confidence);
     f.optional(m, "max_overlap", "colour_model.", l.max_overlap);
     f.optional(m, "background_scale", "colour_model.", l.water.background_scale);
     f.optional(m, "water_object_level", "colour_model.", l.water.object_level);
@@ -249,6 +255,18 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
         l.model = std::make_shared<const ColourModel>(ColourModel::load(l.file));
       } catch (const std::invalid_argument& e) {
         f.fail(std::string("colour_model.file: ") + e.what());
+      }
+    }
+    if (!l.check_file.empty()) {
+      if (l.check_file.front() != '/' && !base_dir.empty()) l.check_file = base_dir + "/" + l.check_file;
+      if (!l.model) {
+        f.fail("colour_model.check_file: the check reads the colour model's votes, and no colour_model.file is loaded");
+      } else {
+        try {  // a check learnt over another colour model's colours is refused by its feature names
+          l.check = std::make_shared<const ColourModel>(ColourModel::load(l.check_file, checkFeatureNames(l.model->colours())));
+        } catch (const std::invalid_argument& e) {
+          f.fail(std::string("colour_model.check_file: ") + e.what());
+        }
       }
     }
   }

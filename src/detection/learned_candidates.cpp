@@ -97,6 +97,7 @@ std::string rejectionStageName(RejectionStage stage) {
     case RejectionStage::kTooFewPoints: return "too few 3D points";
     case RejectionStage::kNoFit: return "no shape fit";
     case RejectionStage::kWrongSize: return "wrong size";
+    case RejectionStage::kCheckAfterStereo: return "turned down after stereo";
     case RejectionStage::kPieceOfObject: return "piece of an object";
   }
   return "?";
@@ -121,6 +122,12 @@ std::vector<std::string> LearnedColourConfig::validate() const {
   std::vector<std::string> p;
   if (!(min_confidence > 0 && min_confidence <= 1)) p.push_back("colour_model.min_confidence must be in (0, 1]");
   if (!(max_overlap >= 0 && max_overlap <= 1)) p.push_back("colour_model.max_overlap must be in [0, 1]");
+  if (!(check_min_confidence > 0 && check_min_confidence <= 1)) {
+    p.push_back("colour_model.check_min_confidence must be in (0, 1]");
+  }
+  if (!(check_from_confidence > 0 && check_from_confidence <= 1)) {
+    p.push_back("colour_model.check_from_confidence must be in (0, 1]");
+  }
   for (const auto& s : water.validate()) p.push_back(asYamlKey(s));
   for (const auto& s : proposals.validate()) p.push_back(asYamlKey(s));
   return p;
@@ -138,7 +145,8 @@ LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& c
 }
 
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
-                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads) {
+                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads,
+                                    bool for_check) {
   requireBgr8(bgr, "findLearnedCandidates");
   if (!config.model || config.model->empty()) throw std::invalid_argument("findLearnedCandidates: no colour model loaded");
   LearnedProposals proposed = proposeLearned(bgr, config, candidates, threads);
@@ -151,7 +159,9 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   for (const std::string& name : config.model->colours()) {
     const auto it = std::find_if(classes.begin(), classes.end(), [&](const ColourClass& c) { return c.name == name; });
     designated.push_back(it == classes.end() ? -1 : static_cast<int>(it - classes.begin()));
-    needed.push_back(it != classes.end() && it->min_confidence > 0 ? it->min_confidence : config.min_confidence);
+    needed.push_back(for_check                                          ? config.check_from_confidence
+                     : it != classes.end() && it->min_confidence > 0 ? it->min_confidence
+                                                                     : config.min_confidence);
   }
   struct Named {
     BlobProposal proposal;
@@ -203,6 +213,8 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     c.face_contrast = faceContrast(bgr(c.roi), c.mask);
     c.saliency_kind = n.proposal.kind;
     c.saliency_level = n.proposal.level;
+    c.colour_features = std::move(n.proposal.features);
+    c.colour_features.insert(c.colour_features.end(), n.verdict.shares.begin(), n.verdict.shares.end());
     c.contour = std::move(n.proposal.contour);
     out.candidates.push_back(std::move(c));
   }

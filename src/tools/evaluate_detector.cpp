@@ -36,7 +36,7 @@ using namespace underwater_stereo;
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
-    "                         [--json FILE] [--worst K DIR] [--shape-rules]\n"
+    "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--size WxH]\n"
     "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
@@ -45,7 +45,9 @@ const char* kUsage =
     "    --json FILE: every object (with the shape features of its detection: what learn_shapes learns from)\n"
     "    and false detection; --worst K DIR: the K worst failures' left images; --shape-rules: shapes by the\n"
     "    hand-made rules, the config's shape.model_file not read (the records a new shape model learns from,\n"
-    "    also when the shape features changed and the old model is refused).\n"
+    "    also when the shape features changed and the old model is refused); --without-check: every detection\n"
+    "    the colour model passes from colour_model.check_from_confidence on, the config's check_file not read\n"
+    "    (the records learn_checks learns from: each detection with its check features).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
     "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered).\n";
@@ -327,9 +329,19 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
 }
 
 /// The configuration of `path` without its shape.model_file (the hand-made rules decide shapes).
-DetectorConfig withoutShapeModel(const std::string& path) {
-  return loadDetectorConfigFile(path, [](YAML::Node& root) {
-    if (root.IsMap() && root["shape"] && root["shape"].IsMap()) root["shape"].remove("model_file");
+/// The configuration at `path`, without its learnt shape model (`shape_rules`) or its check after stereo
+/// (`without_check`) when asked.
+DetectorConfig configWithout(const std::string& path, bool shape_rules, bool without_check) {
+  return loadDetectorConfigFile(path, [&](YAML::Node& root) {
+    if (!root.IsMap()) return;
+    if (shape_rules && root["shape"] && root["shape"].IsMap()) root["shape"].remove("model_file");
+    if (without_check && root["colour_model"] && root["colour_model"].IsMap()) {
+      // Every region a check would judge is reported.
+      YAML::Node m = root["colour_model"];
+      if (m["check_from_confidence"]) m["min_confidence"] = YAML::Clone(m["check_from_confidence"]);
+      else m["min_confidence"] = LearnedColourConfig{}.check_from_confidence;
+      m.remove("check_file");
+    }
   });
 }
 
@@ -339,7 +351,7 @@ int main(int argc, char** argv) {
   std::string config_path;
   int frames = 10;
   double rate = 2.0;
-  bool paper_brightness = false, shape_rules = false;
+  bool paper_brightness = false, shape_rules = false, without_check = false;
   RandomOptions random;
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
@@ -372,6 +384,7 @@ int main(int argc, char** argv) {
       if (a == "--verbose") verbose = true;
       else if (a == "--paper-brightness") paper_brightness = true;
       else if (a == "--shape-rules") shape_rules = true;
+      else if (a == "--without-check") without_check = true;
       else if (a == "--config") config_path = value();
       else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
       else if (a == "--rate") {
@@ -417,7 +430,7 @@ int main(int argc, char** argv) {
   {
     std::vector<std::string> problems;
     try {
-      config = shape_rules ? withoutShapeModel(config_path) : loadDetectorConfigFile(config_path);
+      config = configWithout(config_path, shape_rules, without_check);
     } catch (const std::exception& e) {
       problems.push_back(e.what());
     }
@@ -436,7 +449,9 @@ int main(int argc, char** argv) {
   try {
     // The records say how shapes were decided (their "config").
     if (random.pairs > 0) {
-      return evaluateRandom(config, shape_rules ? config_path + " --shape-rules" : config_path, sampler, random);
+      return evaluateRandom(config,
+                            config_path + (shape_rules ? " --shape-rules" : "") + (without_check ? " --without-check" : ""),
+                            sampler, random);
     }
     if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);
     return evaluateSceneFiles(config, scene_files, frames, rate);

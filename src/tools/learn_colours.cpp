@@ -365,6 +365,9 @@ void writeConfig(const std::string& base_path, const std::string& out, const std
   root["colours"] = colours;
   root["candidates"]["source"] = "learned";
   root["colour_model"]["file"] = model_name;
+  for (const char* key : {"check_file", "check_min_confidence", "check_from_confidence"}) {
+    root["colour_model"].remove(key);  // the base's check reads the base's colour model's votes (see main)
+  }
   if (min_confidence > 0) root["colour_model"]["min_confidence"] = shortest(min_confidence);
   std::ofstream file(out);
   file << "# Learnt by learn_colours from labelled frames (see README, 'A new pool'); the colour model is in "
@@ -382,6 +385,12 @@ int main(int argc, char** argv) {
     o = parse(argc, argv);
     if (o.base.empty()) o.base = std::string(UWS_SOURCE_DIR) + "/config/detector.yaml";
     base = loadDetectorConfigFile(o.base);
+    if (base.learned.check) {  // it reads the base's colour model's votes, not the new model's
+      std::fprintf(stderr, "learn_colours: the base's colour_model.check_file is neither used nor written (learn_checks "
+                   "learns a check for the new colour model)\n");
+      base.learned.check.reset();
+      base.learned.check_file.clear();
+    }
     if (!o.colours_given) {
       for (const ColourClass& c : base.colours.classes) o.learning.colours.push_back(c.name);
     }

@@ -33,6 +33,13 @@ std::string number(double v) {
   return s.str();
 }
 
+/// A JSON list of `values`.
+std::string numbers(const std::vector<float>& values) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + number(values[i]);
+  return out + "]";
+}
+
 std::string vec(const Eigen::Vector3d& v) { return "[" + number(v.x()) + ", " + number(v.y()) + ", " + number(v.z()) + "]"; }
 std::string rect(const cv::Rect& r) {
   return "[" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.width) + ", " +
@@ -214,9 +221,11 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
       o.range_error = std::abs(d.range_m - o.range_m) / o.range_m;
       o.position_error = (d.position_m - o.centre_m).norm() / o.range_m;
       o.detected_shape_features = d.shape_features;
+      o.detected_check_features = d.check_features;
       continue;
     }
-    rec.false_detections.push_back({d.colour, d.shape, best >= 0 ? rec.objects[best].name : "", d.roi, d.range_m});
+    rec.false_detections.push_back(
+        {d.colour, d.shape, best >= 0 ? rec.objects[best].name : "", d.roi, d.range_m, d.check_features});
   }
   // A missed object's cause: the latest stage that turned down a region on it.
   std::vector<int> latest(rec.objects.size(), -1);
@@ -300,11 +309,9 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
             << ", \"shape\": " << quoted(shapeName(o.detected_shape))
             << ", \"range_m\": " << number(o.detected_range_m) << ", \"centre_m\": " << vec(o.detected_centre_m)
             << ", \"roi\": " << rect(o.detected_roi) << ", \"range_error\": " << number(o.range_error)
-            << ", \"position_error\": " << number(o.position_error) << ", \"shape_features\": [";
-        for (std::size_t f = 0; f < o.detected_shape_features.size(); ++f) {
-          out << (f ? ", " : "") << number(o.detected_shape_features[f]);
-        }
-        out << "]}";
+            << ", \"position_error\": " << number(o.position_error)
+            << ", \"shape_features\": " << numbers(o.detected_shape_features)
+            << ", \"check_features\": " << numbers(o.detected_check_features) << "}";
       }
       out << "}";
     }
@@ -312,7 +319,8 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
     for (std::size_t k = 0; k < p.false_detections.size(); ++k) {
       const FalseRecord& f = p.false_detections[k];
       out << (k ? ", " : "") << "{\"colour\": " << quoted(f.colour) << ", \"shape\": " << quoted(shapeName(f.shape))
-          << ", \"on\": " << quoted(f.on) << ", \"roi\": " << rect(f.roi) << ", \"range_m\": " << number(f.range_m) << "}";
+          << ", \"on\": " << quoted(f.on) << ", \"roi\": " << rect(f.roi) << ", \"range_m\": " << number(f.range_m)
+          << ", \"check_features\": " << numbers(f.check_features) << "}";
     }
     out << "]}";
   }

@@ -42,6 +42,7 @@ struct ObjectRecord {
   double range_error = 0.0;         ///< |range - true| / true range (found only)
   double position_error = 0.0;      ///< |centre - true centre| / true range (found only)
   std::vector<float> detected_shape_features;  ///< Detection::shape_features (what learn-shapes trains on)
+  std::vector<float> detected_check_features;  ///< Detection::check_features (what learn_checks trains on)
   /// Of a missed eligible object, the last stage that lost it (missCauseNames()).
   std::string miss_cause;
 };
@@ -53,6 +54,7 @@ struct FalseRecord {
   std::string on;  ///< the truth object it lies on, "" for background
   cv::Rect roi;
   double range_m = 0.0;
+  std::vector<float> check_features;  ///< Detection::check_features (what learn_checks trains on)
 };
 
 struct PairRecord {

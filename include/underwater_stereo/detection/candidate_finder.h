@@ -52,6 +52,9 @@ struct Candidate {
   /// kLearned only: the saliency and level the region was cut at (the right frame is cut alike).
   SaliencyKind saliency_kind = SaliencyKind::kChroma;
   double saliency_level = 0.0;
+  /// kLearned only: its proposal's features and the colour model's shares of votes (what the check after stereo
+  /// reads, detection_check.h).
+  std::vector<float> colour_features;
 };
 
 /// Fisher ratio of an Otsu split of the grey levels of `bgr_roi` under `mask` (Candidate::face_contrast).

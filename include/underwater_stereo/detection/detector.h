@@ -37,6 +37,9 @@ struct Detection {
   std::vector<Eigen::Vector3f> points;  ///< the object's cluster [m]
   double fit_rmse_m = 0.0;
   std::vector<float> shape_features;  ///< what the shape was decided from (shapeFeatureNames()); empty: too few points
+  /// What the check after stereo reads (checkFeatures, detection_check.h; what learn_checks learns from); empty
+  /// when no colour model found it.
+  std::vector<float> check_features;
 };
 
 /// Time per stage of the last call [ms]; the per-object stages (rectify: silhouette disparity and band

@@ -28,6 +28,15 @@ struct LearnedColourConfig {
   WaterContrastConfig water;
   ProposalConfig proposals;     ///< areas in full-resolution pixels, like candidates.min_area_px
   std::shared_ptr<const ColourModel> model;  ///< loaded from `file`
+  /// The check after stereo (detection_check.h; learn_checks writes it), resolved like `file`; empty: none.
+  std::string check_file;
+  /// Share of the check's trees that must vote for an object (any colour, not background) for a detection to be
+  /// reported.
+  double check_min_confidence = 0.35;
+  /// With a check, regions with this share of the colour model's votes go on to stereo and the check (in place of
+  /// min_confidence, which stays the decision where nothing is measured in 3D: detect2d, detect_files --image).
+  double check_from_confidence = 0.2;
+  std::shared_ptr<const ColourModel> check;  ///< loaded from `check_file`, over checkFeatureNames(model->colours())
 
   std::vector<std::string> validate() const;
 };
@@ -48,6 +57,7 @@ enum class RejectionStage {
   kTooFewPoints,         ///< too few 3D points in its main cluster
   kNoFit,                ///< the shape fit gave no finite position or size
   kWrongSize,            ///< metric size outside its colour's configured range
+  kCheckAfterStereo,     ///< the check after stereo (colour_model.check_file) takes it for background
   kPieceOfObject,        ///< measured again as part of a larger detection of its colour
 };
 constexpr int kRejectionStageCount = static_cast<int>(RejectionStage::kPieceOfObject) + 1;
@@ -82,9 +92,12 @@ LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& c
                                 int threads = 1);
 
 /// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
-/// colours, by name). On `threads` threads (workOnThreads; the same result whatever the number).
+/// colours, by name) and have its share of the votes (the class's min_confidence, else the model's; with
+/// `for_check`, config.check_from_confidence for every colour: the check after stereo decides). On `threads`
+/// threads (workOnThreads; the same result whatever the number).
 /// @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
-                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads = 1);
+                                    const LearnedColourConfig& config, const CandidateConfig& candidates, int threads = 1,
+                                    bool for_check = false);
 
 }  // namespace underwater_stereo

@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// learn_checks: learns the detector's check after stereo (colour_model.check_file, detection_check.h) from
+// evaluate_detector's JSON records of randomised scenes made with --without-check: every detection the colour
+// model passed, with its check features, labelled as the evaluation counts it.
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "underwater_stereo/detection/colour_model.h"
+#include "underwater_stereo/detection/detection_check.h"
+#include "underwater_stereo/detection/detector_config.h"
+
+namespace {
+
+using namespace underwater_stereo;
+
+const char* kUsage =
+    "usage: learn_checks --config DETECTOR.yaml --out CHECK.yml.gz RECORDS.json...\n"
+    "  RECORDS: evaluate_detector --config DETECTOR.yaml --random N --seed S --without-check --json RECORDS\n"
+    "  (seeds never used for judging). DETECTOR.yaml names the colour model the records were made with.\n"
+    "  Learns from each detection: the first one on an object of a designated colour (0.5-5 m, >= 400 px) as\n"
+    "  that colour; one on a distractor, on the background, or a second one on an object as background; one on\n"
+    "  an object too small, near or far not at all. Name the model in the configuration as\n"
+    "  colour_model.check_file.\n";
+
+constexpr int kBackground = -1;
+
+/// What the records' detections teach.
+struct Samples {
+  cv::Mat rows;
+  std::vector<int> labels;  ///< kBackground or a colour's index
+};
+
+std::vector<float> featuresOf(const YAML::Node& list, std::size_t width, const std::string& where) {
+  if (!list || !list.IsSequence()) {
+    throw std::invalid_argument(where + ": no check_features (records older than the check, or not --random records)");
+  }
+  std::vector<float> f;
+  for (const YAML::Node& v : list) f.push_back(v.IsNull() ? 0.0F : v.as<float>());
+  if (!f.empty() && f.size() != width) {
+    throw std::invalid_argument(where + ": " + std::to_string(f.size()) + " check features, the configuration's colour "
+                                "model gives " + std::to_string(width) + ": make the records with this configuration");
+  }
+  return f;
+}
+
+/// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
+void addRecords(const std::string& path, const std::vector<std::string>& colours, std::size_t width, Samples& out) {
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);  // JSON is YAML
+  } catch (const YAML::Exception& e) {
+    throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
+  }
+  if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
+    throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
+  }
+  if (root["config"] && root["config"].as<std::string>("").find("--without-check") == std::string::npos) {
+    throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
+                                "lack what the check turned down");
+  }
+  auto add = [&](const std::vector<float>& f, int label) {
+    if (f.empty()) return;  // not found by a colour model
+    out.rows.push_back(cv::Mat(f, true).reshape(1, 1));
+    out.labels.push_back(label);
+  };
+  for (const YAML::Node& pair : root["pairs"]) {
+    const std::string where = path + ": seed " + pair["seed"].as<std::string>("?");
+    std::map<std::string, YAML::Node> objects;
+    for (const YAML::Node& o : pair["objects"]) {
+      objects[o["name"].as<std::string>()] = o;
+      if (!o["found"].as<bool>(false) || !o["designated"].as<bool>(false) || !o["eligible"].as<bool>(false)) continue;
+      const auto colour = std::find(colours.begin(), colours.end(), o["colour"].as<std::string>());
+      if (colour == colours.end()) continue;  // a designated colour the colour model does not name
+      add(featuresOf(o["detected"]["check_features"], width, where), static_cast<int>(colour - colours.begin()));
+    }
+    for (const YAML::Node& d : pair["false_detections"]) {
+      const std::string on = d["on"].as<std::string>("");
+      const auto it = objects.find(on);
+      if (!on.empty() && it == objects.end()) throw std::invalid_argument(where + ": a detection on unknown object " + on);
+      const bool ineligible_target = it != objects.end() && it->second["designated"].as<bool>(false) &&
+                                     !it->second["eligible"].as<bool>(false);
+      if (ineligible_target) continue;  // neither a target nor a false one
+      add(featuresOf(d["check_features"], width, where), kBackground);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string config_path, out;
+  std::vector<std::string> inputs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::cout << kUsage;
+      return 0;
+    }
+    if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (a == "--config" && i + 1 < argc) config_path = argv[++i];
+    else if (!a.empty() && a[0] == '-') {
+      std::cerr << "learn_checks: unknown option " << a << "\n" << kUsage;
+      return 2;
+    } else {
+      inputs.push_back(a);
+    }
+  }
+  if (out.empty() || config_path.empty() || inputs.empty()) {
+    std::cerr << "learn_checks: give --config, --out and at least one records file\n" << kUsage;
+    return 2;
+  }
+  try {
+    const DetectorConfig config = loadDetectorConfigFile(config_path, [](YAML::Node& root) {
+      if (root.IsMap() && root["colour_model"] && root["colour_model"].IsMap()) root["colour_model"].remove("check_file");
+    });
+    if (!config.learned.model) throw std::invalid_argument(config_path + ": no colour_model.file: nothing to check");
+    const std::vector<std::string>& colours = config.learned.model->colours();
+    const std::vector<std::string> names = checkFeatureNames(colours);
+    Samples samples;
+    samples.rows = cv::Mat(0, static_cast<int>(names.size()), CV_32F);
+    for (const std::string& path : inputs) addRecords(path, colours, names.size(), samples);
+    // Deeper trees than the colour model's, every class weighted alike (chosen on validation seeds 60000-60299).
+    ColourModelTraining training;
+    training.max_depth = 12;
+    training.balance = 0;
+    ColourModel::train(samples.rows, samples.labels, colours, training, names).save(out);
+    std::map<int, int> counts;
+    for (int l : samples.labels) ++counts[l];
+    std::cout << "learnt from " << samples.labels.size() << " detections (background " << counts[kBackground];
+    for (std::size_t k = 0; k < colours.size(); ++k) std::cout << ", " << colours[k] << " " << counts[int(k)];
+    std::cout << "); wrote " << out << "\n";
+  } catch (const std::exception& e) {
+    std::cerr << "learn_checks: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

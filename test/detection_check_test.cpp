@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The check after stereo (detection_check.h): its features, its configuration, and what it does to detections.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <memory>
+#include <string>
+
+#include "underwater_stereo/detection/blob_proposals.h"
+#include "underwater_stereo/detection/detection_check.h"
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/sim/renderer.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+DetectorConfig defaultConfig() { return loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"); }
+
+/// A check over `colours` that names every row like `rows` `label` (-1: background), and
+/// learns each other class from one row far from them (a model must have seen every class).
+std::shared_ptr<const ColourModel> checkNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
+  cv::Mat samples = rows.clone();
+  std::vector<int> labels(rows.rows, label);
+  for (int k = -1; k < static_cast<int>(colours.size()); ++k) {
+    if (k == label) continue;
+    samples.push_back(cv::Mat(1, rows.cols, CV_32F, cv::Scalar(1e6)));
+    labels.push_back(k);
+  }
+  return std::make_shared<const ColourModel>(
+      ColourModel::train(samples, labels, colours, ColourModelTraining{}, checkFeatureNames(colours)));
+}
+
+std::string refusalOf(const std::string& yaml) {
+  try {
+    parseDetectorConfig(YAML::Load(yaml), ::testing::TempDir());
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(DetectionCheck, FeaturesAreTheColourSearchsThenWhatStereoMeasured) {
+  const std::vector<std::string> names = checkFeatureNames({"red", "green"});
+  ASSERT_EQ(names.size(), static_cast<std::size_t>(kBlobFeatureCount) + 3 + 7);
+  EXPECT_EQ(names.front(), blobFeatureNames().front());
+  EXPECT_EQ(names[kBlobFeatureCount], "share_background");
+  EXPECT_EQ(names[kBlobFeatureCount + 2], "share_green");
+  EXPECT_EQ(names.back(), "matched_share");
+  MeasuredForCheck m;
+  m.range_m = 2.5;
+  m.largest_size_m = 0.4;
+  m.smallest_size_m = 0.0;  // a flat fit: its logarithm stays finite
+  m.cut_by_border = true;
+  m.fit_rmse_m = 0.025;
+  m.matched_share = 0.8;
+  const std::vector<float> f = checkFeatures(std::vector<float>(kBlobFeatureCount + 3, 0.5f), m);
+  ASSERT_EQ(f.size(), names.size());
+  EXPECT_FLOAT_EQ(f[kBlobFeatureCount + 3], 2.5f);
+  EXPECT_NEAR(f[kBlobFeatureCount + 4], std::log(0.4), 1e-6);
+  EXPECT_TRUE(std::isfinite(f[kBlobFeatureCount + 5]));
+  EXPECT_FLOAT_EQ(f[kBlobFeatureCount + 7], 1.f);
+  EXPECT_NEAR(f[kBlobFeatureCount + 8], 0.01, 1e-6) << "the fit's residual as a share of the range";
+  EXPECT_THROW(checkFeatures({}, m), std::invalid_argument) << "a candidate no colour model found";
+}
+
+TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
+  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+  scene.sensor.encoding = "bgr8";
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  DetectorConfig config = defaultConfig();
+  const std::vector<std::string>& colours = config.learned.model->colours();
+  const DetectionResult plain = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(plain.objects.size(), 2U);
+  cv::Mat rows;
+  for (const Detection& d : plain.objects) {
+    ASSERT_EQ(d.check_features.size(), checkFeatureNames(colours).size());
+    rows.push_back(cv::Mat(d.check_features, true).reshape(1, 1));
+  }
+
+  config.learned.check = checkNaming(rows, -1, colours);
+  const DetectionResult background = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  EXPECT_TRUE(background.objects.empty());
+  int turned_down = 0;
+  for (const Rejection& r : background.rejected) {
+    if (r.stage != RejectionStage::kCheckAfterStereo) continue;
+    ++turned_down;
+    EXPECT_NE(r.reason.find("check_min_confidence"), std::string::npos) << r.reason;
+  }
+  EXPECT_EQ(turned_down, 2);
+
+  // A check that takes them for objects (of any colour) keeps them as the colour model named them.
+  const int orange = static_cast<int>(std::find(colours.begin(), colours.end(), "orange") - colours.begin());
+  ASSERT_LT(orange, static_cast<int>(colours.size()));
+  config.learned.check = checkNaming(rows, orange, colours);
+  const DetectionResult kept = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(kept.objects.size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(kept.objects[k].colour, plain.objects[k].colour) << "the check does not name colours";
+    EXPECT_EQ(kept.objects[k].position_m, plain.objects[k].position_m);
+  }
+}
+
+TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
+  const std::string model = UWS_SOURCE_DIR "/config/detector.colour_model.yml.gz";
+  const std::vector<std::string> colours = ColourModel::load(model).colours();
+  const cv::Mat row(1, static_cast<int>(checkFeatureNames(colours).size()), CV_32F, cv::Scalar(0));
+  checkNaming(row, -1, colours)->save(::testing::TempDir() + "check.yml.gz");
+  const std::string head = "colours: [{name: red}, {name: orange}, {name: yellow}, {name: green}]\n"
+                           "candidates: {source: learned}\n";
+  const DetectorConfig ok = parseDetectorConfig(
+      YAML::Load(head + "colour_model: {file: " + model + ", check_file: check.yml.gz, check_min_confidence: 0.5}"),
+      ::testing::TempDir());
+  ASSERT_TRUE(ok.learned.check);
+  EXPECT_DOUBLE_EQ(ok.learned.check_min_confidence, 0.5);
+
+  const std::string without_model = refusalOf(head + "colour_model: {check_file: check.yml.gz}");
+  EXPECT_NE(without_model.find("colour_model.check_file: the check reads the colour model's votes"), std::string::npos)
+      << without_model;
+  const std::string bad_share = refusalOf(head + "colour_model: {file: " + model + ", check_file: check.yml.gz, "
+                                                 "check_min_confidence: 0}");
+  EXPECT_NE(bad_share.find("colour_model.check_min_confidence must be in (0, 1]"), std::string::npos) << bad_share;
+  // A check learnt over another colour model's colours reads other votes: refused by its feature names.
+  const std::vector<std::string> others{"red", "green"};
+  const cv::Mat other_row(1, static_cast<int>(checkFeatureNames(others).size()), CV_32F, cv::Scalar(0));
+  checkNaming(other_row, -1, others)->save(::testing::TempDir() + "other_check.yml.gz");
+  const std::string other = refusalOf(head + "colour_model: {file: " + model + ", check_file: other_check.yml.gz}");
+  EXPECT_NE(other.find("colour_model.check_file: colour model"), std::string::npos) << other;
+  EXPECT_NE(other.find("made for other features"), std::string::npos) << other;
+}
