@@ -10,6 +10,7 @@
 #include <fstream>
 #include <random>
 
+#include "config_test_helpers.h"
 #include "underwater_stereo/detection/colour_learning.h"
 #include "underwater_stereo/detection/detector.h"
 
@@ -72,9 +73,7 @@ std::string writeTemp(const std::string& name, const std::string& text) {
 }
 
 ColourModel learnt(const std::vector<LabelledFrame>& frames, const LearningOptions& o) {
-  DetectorConfig proposer_config = baseConfig();
-  proposer_config.candidates.source = ContourSource::kColourMask;
-  const Detector proposer(proposer_config);
+  const Detector proposer(proposerConfig(baseConfig()));
   std::vector<FrameSamples> samples;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     samples.push_back(samplesOf(frames[i], proposer, o, static_cast<unsigned>(i + 1)));
@@ -82,17 +81,6 @@ ColourModel learnt(const std::vector<LabelledFrame>& frames, const LearningOptio
   std::vector<const FrameSamples*> parts;
   for (const FrameSamples& s : samples) parts.push_back(&s);
   return learnColourModel(parts, o);
-}
-
-/// What parseDetectorConfig says when it refuses `yaml` (model files in the test's temporary folder); empty when
-/// it accepts it.
-std::string refusalOf(const std::string& yaml) {
-  try {
-    parseDetectorConfig(YAML::Load(yaml), ::testing::TempDir());
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -328,6 +316,8 @@ TEST(ColourLearning, TheDefaultConfigFileHoldsTheCoresDefaults) {
   EXPECT_DOUBLE_EQ(file.water.object_level, core.water.object_level);
   EXPECT_EQ(file.proposals.levels, core.proposals.levels);
   EXPECT_EQ(file.proposals.max_proposals, core.proposals.max_proposals);
+  EXPECT_DOUBLE_EQ(file.check_min_confidence, core.check_min_confidence);
+  EXPECT_DOUBLE_EQ(file.check_from_confidence, core.check_from_confidence);
 }
 
 TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "config_test_helpers.h"
 #include "underwater_stereo/detection/blob_proposals.h"
 #include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/detector.h"
@@ -29,15 +30,6 @@ std::shared_ptr<const ColourModel> checkNaming(const cv::Mat& rows, int label, c
   }
   return std::make_shared<const ColourModel>(
       ColourModel::train(samples, labels, colours, ColourModelTraining{}, checkFeatureNames(colours)));
-}
-
-std::string refusalOf(const std::string& yaml) {
-  try {
-    parseDetectorConfig(YAML::Load(yaml), ::testing::TempDir());
-  } catch (const std::invalid_argument& e) {
-    return e.what();
-  }
-  return "";
 }
 
 }  // namespace
@@ -120,6 +112,10 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   const std::string without_model = refusalOf(head + "colour_model: {check_file: check.yml.gz}");
   EXPECT_NE(without_model.find("colour_model.check_file: the check reads the colour model's votes"), std::string::npos)
       << without_model;
+  const std::string not_learned = refusalOf(
+      "colours: [{name: red, hue: [170, 10]}]\ncandidates: {source: colour_mask}\n"
+      "colour_model: {file: " + model + ", check_file: check.yml.gz}");
+  EXPECT_NE(not_learned.find("candidates.source is not learned"), std::string::npos) << not_learned;
   const std::string bad_share = refusalOf(head + "colour_model: {file: " + model + ", check_file: check.yml.gz, "
                                                  "check_min_confidence: 0}");
   EXPECT_NE(bad_share.find("colour_model.check_min_confidence must be in (0, 1]"), std::string::npos) << bad_share;

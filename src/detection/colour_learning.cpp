@@ -447,12 +447,22 @@ ThresholdChoice chooseThresholds(const std::vector<LabelledFrame>& frames,
   return best;
 }
 
+DetectorConfig proposerConfig(const DetectorConfig& base) {
+  DetectorConfig c = base;
+  c.candidates.source = ContourSource::kColourMask;
+  c.learned.check_file.clear();
+  c.learned.check.reset();
+  return c;
+}
+
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
                              std::shared_ptr<const ColourModel> model, const LearningOptions& options) {
   DetectorConfig c = base;
   c.candidates.source = ContourSource::kLearned;
   c.learned.file = model_file;
   c.learned.model = std::move(model);
+  c.learned.check_file.clear();
+  c.learned.check.reset();
   c.colours.classes.clear();
   for (const std::string& name : options.colours) {
     const auto it = std::find_if(base.colours.classes.begin(), base.colours.classes.end(),

@@ -207,9 +207,7 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
 /// Whether the check after stereo (colour_model.check_file) takes `d` for an object: enough of its trees vote for
 /// any colour rather than background (d keeps the colour model's colour). If not, why into `rejected`.
 bool passesCheck(const ColourModel& check, const DetectorConfig& config, const Detection& d, Rejection& rejected) {
-  const ColourVerdict v = check.classify(cv::Mat(1, static_cast<int>(d.check_features.size()), CV_32F,
-                                                 const_cast<float*>(d.check_features.data())))
-                              .front();
+  const ColourVerdict v = check.classify(cv::Mat(d.check_features, true).reshape(1, 1)).front();
   const double object_share = 1.0 - v.shares.front();  // shares: background first
   if (object_share >= config.learned.check_min_confidence) return true;
   rejected.stage = RejectionStage::kCheckAfterStereo;

@@ -161,6 +161,9 @@ std::vector<std::string> DetectorConfig::validate() const {
         }
       }
     }
+  } else if (learned.check) {
+    p.push_back("colour_model.check_file: the check reads the learned colour search's votes; candidates.source is not "
+                "learned");
   }
   for (const DetectorTunable& t : detectorTunables()) {
     const double v = t.get(*this);

@@ -13,6 +13,7 @@
 #include "underwater_stereo/detection/colour_model.h"
 #include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/detector_config.h"
+#include "tool_helpers.h"
 
 namespace {
 
@@ -50,15 +51,7 @@ std::vector<float> featuresOf(const YAML::Node& list, std::size_t width, const s
 
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
 void addRecords(const std::string& path, const std::vector<std::string>& colours, std::size_t width, Samples& out) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);  // JSON is YAML
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
-  }
-  if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
-    throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
-  }
+  const YAML::Node root = tools::loadRandomRecords(path);
   if (root["config"] && root["config"].as<std::string>("").find("--without-check") == std::string::npos) {
     throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
                                 "lack what the check turned down");

@@ -385,11 +385,9 @@ int main(int argc, char** argv) {
     o = parse(argc, argv);
     if (o.base.empty()) o.base = std::string(UWS_SOURCE_DIR) + "/config/detector.yaml";
     base = loadDetectorConfigFile(o.base);
-    if (base.learned.check) {  // it reads the base's colour model's votes, not the new model's
+    if (base.learned.check) {  // it reads the base's colour model's votes (learnedConfig leaves it out)
       std::fprintf(stderr, "learn_colours: the base's colour_model.check_file is neither used nor written (learn_checks "
                    "learns a check for the new colour model)\n");
-      base.learned.check.reset();
-      base.learned.check_file.clear();
     }
     if (!o.colours_given) {
       for (const ColourClass& c : base.colours.classes) o.learning.colours.push_back(c.name);
@@ -408,9 +406,7 @@ int main(int argc, char** argv) {
     }
     checkLabels(frames, o.learning);
     // Proposals are the detector's own, with the base's search settings.
-    DetectorConfig proposer_config = base;
-    proposer_config.candidates.source = ContourSource::kColourMask;
-    const Detector proposer(proposer_config);
+    const Detector proposer(proposerConfig(base));
     std::vector<FrameSamples> samples;
     for (std::size_t i = 0; i < frames.size(); ++i) {
       samples.push_back(samplesOf(frames[i], proposer, o.learning, static_cast<unsigned>(i + 1)));

@@ -10,6 +10,7 @@
 
 #include "underwater_stereo/detection/shape_features.h"
 #include "underwater_stereo/detection/shape_model.h"
+#include "tool_helpers.h"
 
 namespace {
 
@@ -23,15 +24,7 @@ const char* kUsage =
 
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
 void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind>& labels) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);  // JSON is YAML
-  } catch (const YAML::Exception& e) {
-    throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
-  }
-  if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
-    throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
-  }
+  const YAML::Node root = tools::loadRandomRecords(path);
   for (const YAML::Node& pair : root["pairs"]) {
     for (const YAML::Node& o : pair["objects"]) {
       if (!o["eligible"].as<bool>(false) || !o["found"].as<bool>(false)) continue;

@@ -135,8 +135,13 @@ ThresholdChoice chooseThresholds(const std::vector<LabelledFrame>& frames,
                                  const std::vector<std::vector<Detection>>& detections, const LearningOptions& options,
                                  const std::vector<double>& grid, double max_false_per_frame);
 
+/// `base` as a proposer of regions to learn from (Detector::proposals): its search settings, with HSV candidates
+/// (so that no colour model is needed) and no check after stereo (it reads a colour model's votes).
+DetectorConfig proposerConfig(const DetectorConfig& base);
+
 /// `base` with candidates.source learned and `model` (loaded from `model_file`), colours = options.colours
-/// (the base's entries kept for colours it has, but their min_confidence: the base model's).
+/// (the base's entries kept for colours it has, but their min_confidence: the base model's), and no check after
+/// stereo (the base's reads the base model's votes).
 DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& model_file,
                              std::shared_ptr<const ColourModel> model, const LearningOptions& options);
 

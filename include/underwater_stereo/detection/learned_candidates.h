@@ -32,7 +32,7 @@ struct LearnedColourConfig {
   std::string check_file;
   /// Share of the check's trees that must vote for an object (any colour, not background) for a detection to be
   /// reported.
-  double check_min_confidence = 0.35;
+  double check_min_confidence = 0.5;
   /// With a check, regions with this share of the colour model's votes go on to stereo and the check (in place of
   /// min_confidence, which stays the decision where nothing is measured in 3D: detect2d, detect_files --image).
   double check_from_confidence = 0.2;
