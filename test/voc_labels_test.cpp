@@ -104,3 +104,14 @@ TEST(VocLabels, NamesAreEscapedAndBadInputRefused) {
   EXPECT_THROW(vocAnnotation("a.png", cv::Size(10, 10), {g}, {0}, 400), std::invalid_argument);
   EXPECT_THROW(labelMask(cv::Mat::zeros(4, 4, CV_8UC1), {}), std::invalid_argument);
 }
+
+TEST(VocLabels, ASliverOnePixelWideOrTallIsNotLabelled) {
+  GroundTruthObject g;
+  g.colour = "red";
+  g.visible_pixels = 10;
+  std::vector<GroundTruthObject> truth(3, g);
+  truth[0].roi_left = cv::Rect(350, 288, 1, 10);  // its VOC corners would be xmin == xmax: an "empty box"
+  truth[1].roi_left = cv::Rect(10, 20, 10, 1);
+  truth[2].roi_left = cv::Rect(10, 20, 2, 2);
+  EXPECT_EQ(labelledObjects(truth, {"red"}), std::vector<std::size_t>{2});
+}

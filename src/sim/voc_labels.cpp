@@ -31,7 +31,8 @@ std::vector<std::size_t> labelledObjects(const std::vector<GroundTruthObject>& t
   for (std::size_t i = 0; i < truth.size(); ++i) {
     const bool labelled =
         std::find(labelled_colours.begin(), labelled_colours.end(), truth[i].colour) != labelled_colours.end();
-    if (labelled && truth[i].visible_pixels > 0) out.push_back(i);
+    const cv::Rect& box = truth[i].roi_left;
+    if (labelled && truth[i].visible_pixels > 0 && box.width > 1 && box.height > 1) out.push_back(i);
   }
   return out;
 }

@@ -343,10 +343,17 @@ void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector
   if (!out) throw std::runtime_error("--detections-out: cannot be written");
 }
 
-/// The base configuration file with the learnt colours and model, as YAML.
+/// The base configuration file with the learnt colours and model, as YAML. The base's shape model stays the one
+/// it names, by absolute path (the written file may lie in another folder).
 void writeConfig(const std::string& base_path, const std::string& out, const std::string& model_name,
                  const LearningOptions& options, double min_confidence, const std::vector<double>& per_colour) {
   YAML::Node root = YAML::LoadFile(base_path);
+  if (YAML::Node shape = root["shape"]; shape && shape.IsMap() && shape["model_file"]) {
+    const std::filesystem::path file = shape["model_file"].as<std::string>();
+    if (file.is_relative()) {
+      shape["model_file"] = (std::filesystem::absolute(base_path).parent_path() / file).lexically_normal().string();
+    }
+  }
   YAML::Node colours(YAML::NodeType::Sequence);
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
     const std::string& name = options.colours[k];

@@ -12,8 +12,10 @@
 namespace underwater_stereo {
 namespace sim {
 
-/// Objects of a rendered pair that get a label: those whose colour is in `labelled_colours` and that show at least
-/// one pixel, in ground-truth order. Others (distractors) are background.
+/// Objects of a rendered pair that get a label: those whose colour is in `labelled_colours` and whose pixels span at
+/// least two columns and two rows, in ground-truth order. Others (distractors) are background. (A sliver one pixel
+/// wide has VOC corners xmin == xmax, which readers that take xmax as exclusive, learn_colours among them, refuse
+/// as an empty box.)
 std::vector<std::size_t> labelledObjects(const std::vector<GroundTruthObject>& truth,
                                          const std::vector<std::string>& labelled_colours);
 
