@@ -328,7 +328,6 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
   return 0;
 }
 
-/// The configuration of `path` without its shape.model_file (the hand-made rules decide shapes).
 /// The configuration at `path`, without its learnt shape model (`shape_rules`) or its check after stereo
 /// (`without_check`) when asked.
 DetectorConfig configWithout(const std::string& path, bool shape_rules, bool without_check) {
