@@ -93,6 +93,13 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
   for (std::size_t k = 0; k < 2; ++k) {
     EXPECT_EQ(kept.objects[k].colour, plain.objects[k].colour) << "the check does not name colours";
     EXPECT_EQ(kept.objects[k].position_m, plain.objects[k].position_m);
+    // Its confidence weighs the check's share of votes for an object (the default check's for `plain`).
+    auto objectShare = [&](const ColourModel& check) {
+      return 1.0 - check.classify(cv::Mat(kept.objects[k].check_features, true).reshape(1, 1)).front().shares.front();
+    };
+    EXPECT_NEAR(kept.objects[k].confidence / plain.objects[k].confidence,
+                objectShare(*config.learned.check) / objectShare(*defaultConfig().learned.check), 1e-6);
+    EXPECT_LE(kept.objects[k].confidence, 1.0);
   }
 }
 

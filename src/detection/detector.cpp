@@ -204,18 +204,11 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
   }
 }
 
-/// Whether the check after stereo (colour_model.check_file) takes `d` for an object: enough of its trees vote for
-/// any colour rather than background (d keeps the colour model's colour). If not, why into `rejected`.
-bool passesCheck(const ColourModel& check, const DetectorConfig& config, const Detection& d, Rejection& rejected) {
-  const ColourVerdict v = check.classify(cv::Mat(d.check_features, true).reshape(1, 1)).front();
-  const double object_share = 1.0 - v.shares.front();  // shares: background first
-  if (object_share >= config.learned.check_min_confidence) return true;
-  rejected.stage = RejectionStage::kCheckAfterStereo;
-  char text[128];
-  std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: %.2f of the votes for an object, under "
-                "colour_model.check_min_confidence %.2f", d.range_m, object_share, config.learned.check_min_confidence);
-  rejected.reason = text;
-  return false;
+/// The share of the check's trees (colour_model.check_file) that take a detection with `check_features` for an object
+/// of any colour rather than background.
+double objectShare(const ColourModel& check, const std::vector<float>& check_features) {
+  const ColourVerdict v = check.classify(cv::Mat(check_features, true).reshape(1, 1)).front();
+  return 1.0 - v.shares.front();  // shares: background first
 }
 
 /// Quality and candidates of `frame`; `for_check`: the learned search passes what the check after stereo is to judge.
@@ -359,13 +352,26 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   d.fit_rmse_m = fit.rmse_m;
   d.shape_features = std::move(fit.features);
   const double matched = roi_points.mask_pixels > 0 ? roi_points.matched_pixels / double(roi_points.mask_pixels) : 0;
-  // Stereo noise grows with range: the fit residual is judged against 1 % of it.
-  d.confidence = c.colour_fraction * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
   if (!c.colour_features.empty()) {
     d.check_features = checkFeatures(c.colour_features, {d.range_m, fit.size.maxCoeff(), fit.size.minCoeff(),
                                                          static_cast<int>(d.shape), d.cut_by_border, d.fit_rmse_m, matched});
   }
-  if (config_.learned.check && !passesCheck(*config_.learned.check, config_, d, rejected)) return std::nullopt;
+  // How sure the colour search is: its share of the votes, or with a check after stereo the check's (which weighs
+  // those votes with what stereo measured). The detection keeps the colour model's colour.
+  double colour_share = c.colour_fraction;
+  if (config_.learned.check) {
+    colour_share = objectShare(*config_.learned.check, d.check_features);
+    if (colour_share < config_.learned.check_min_confidence) {
+      rejected.stage = RejectionStage::kCheckAfterStereo;
+      char text[128];
+      std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: %.2f of the votes for an object, under "
+                    "colour_model.check_min_confidence %.2f", d.range_m, colour_share, config_.learned.check_min_confidence);
+      rejected.reason = text;
+      return std::nullopt;
+    }
+  }
+  // Stereo noise grows with range: the fit residual is judged against 1 % of it.
+  d.confidence = colour_share * std::min(1.0, matched / 0.5) * std::exp(-fit.rmse_m / (0.01 * std::max(d.range_m, 0.1)));
   return d;
 }
 
