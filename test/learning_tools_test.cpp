@@ -12,44 +12,30 @@
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include "tool_test_helpers.h"
 #include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/detector_config.h"
 
 namespace fs = std::filesystem;
 using namespace underwater_stereo;
 
-namespace {
-
-int run(const std::string& command, const fs::path& log) {
-  const int status = std::system((command + " >" + log.string() + " 2>&1").c_str());
-  return WEXITSTATUS(status);
-}
-
-std::string read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 TEST(LearnColours, AConfigLearntOverTheDefaultLoadsFromAnotherFolder) {
   const fs::path dir = fs::temp_directory_path() / ("learn_colours_test_" + std::to_string(::getpid()));
   fs::create_directories(dir / "pool");
-  ASSERT_EQ(run(std::string(UWS_RENDER_SCENE) + " --random 10 --seed 50000 --size 640x400 --out " + (dir / "sim").string(),
+  ASSERT_EQ(runTool(std::string(UWS_RENDER_SCENE) + " --random 10 --seed 50000 --size 640x400 --out " + (dir / "sim").string(),
                 dir / "render.log"),
             0)
-      << read(dir / "render.log");
+      << readText(dir / "render.log");
   // Orange and yellow are taught as background: two colours are enough here, and ten scenes hold both.
   const std::string learn = std::string(UWS_LEARN_COLOURS) + " --images " + (dir / "sim/images").string() +
                             " --annotations " + (dir / "sim/annotations").string() + " --base " UWS_SOURCE_DIR
                             "/config/detector.yaml --colours red,green --background orange,yellow --folds 1 --out " +
                             (dir / "pool/pool.yaml").string();
-  ASSERT_EQ(run(learn, dir / "learn.log"), 0) << read(dir / "learn.log");
+  ASSERT_EQ(runTool(learn, dir / "learn.log"), 0) << readText(dir / "learn.log");
   // The base's check after stereo read the base's colour model's votes: said, and not written.
-  EXPECT_NE(read(dir / "learn.log").find("check_file is neither used nor written"), std::string::npos);
-  const std::string written = read(dir / "pool/pool.yaml");
+  EXPECT_NE(readText(dir / "learn.log").find("check_file is neither used nor written"), std::string::npos);
+  const std::string written = readText(dir / "pool/pool.yaml");
   EXPECT_EQ(written.find("check_file"), std::string::npos) << written;
   // The base's shape model, named relative to the base's folder, is still found from the new one.
   const DetectorConfig c = loadDetectorConfigFile((dir / "pool/pool.yaml").string());
@@ -91,14 +77,14 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
   const std::size_t width = checkFeatureNames(base.learned.model->colours()).size();
   auto learn = [&](const std::string& text, const std::string& name) {
     std::ofstream(dir / name) << text;
-    return run(std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " +
+    return runTool(std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " +
                    (dir / "check.yml.gz").string() + " " + (dir / name).string(),
                dir / "learn.log");
   };
-  ASSERT_EQ(learn(records(width, true), "good.json"), 0) << read(dir / "learn.log");
+  ASSERT_EQ(learn(records(width, true), "good.json"), 0) << readText(dir / "learn.log");
   // The four colours once each, the distractor and the background as background; the far red object not at all.
-  EXPECT_NE(read(dir / "learn.log").find("learnt from 6 detections (background 2, red 1"), std::string::npos)
-      << read(dir / "learn.log");
+  EXPECT_NE(readText(dir / "learn.log").find("learnt from 6 detections (background 2, red 1"), std::string::npos)
+      << readText(dir / "learn.log");
   const DetectorConfig checked = parseDetectorConfig(
       YAML::Load("colours: [{name: red}, {name: orange}, {name: yellow}, {name: green}]\ncandidates: {source: learned}\n"
                  "colour_model: {file: " UWS_SOURCE_DIR "/config/detector.colour_model.yml.gz, check_file: " +
@@ -106,11 +92,16 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
   EXPECT_TRUE(checked.learned.check);
 
   EXPECT_EQ(learn(records(width, false), "checked.json"), 1);
-  EXPECT_NE(read(dir / "learn.log").find("made with a check"), std::string::npos) << read(dir / "learn.log");
+  EXPECT_NE(readText(dir / "learn.log").find("made with a check"), std::string::npos) << readText(dir / "learn.log");
   EXPECT_EQ(learn(records(width - 1, true), "narrow.json"), 1);
-  EXPECT_NE(read(dir / "learn.log").find("check features, the configuration's colour model gives"), std::string::npos)
-      << read(dir / "learn.log");
+  EXPECT_NE(readText(dir / "learn.log").find("check features, the configuration's colour model gives"), std::string::npos)
+      << readText(dir / "learn.log");
+  EXPECT_EQ(learn("{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 5, \"objects\": [{\"name\": [1]}]}]}",
+                  "bad_name.json"),
+            1);
+  EXPECT_NE(readText(dir / "learn.log").find("bad_name.json: seed 5: malformed record"), std::string::npos)
+      << readText(dir / "learn.log");
   EXPECT_EQ(learn("{\"pairs\": 3}", "no_pairs.json"), 1);
-  EXPECT_NE(read(dir / "learn.log").find("no \"pairs\" list"), std::string::npos) << read(dir / "learn.log");
+  EXPECT_NE(readText(dir / "learn.log").find("no \"pairs\" list"), std::string::npos) << readText(dir / "learn.log");
   fs::remove_all(dir);
 }

@@ -13,21 +13,15 @@
 
 #include <unistd.h>
 
+#include "tool_test_helpers.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& args) {
-  const int status = std::system((std::string(UWS_RENDER_SCENE) + " " + args + " >/dev/null 2>&1").c_str());
-  return WEXITSTATUS(status);
-}
+int run(const std::string& args) { return underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " " + args); }
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using underwater_stereo::readText;
 
 }  // namespace
 
@@ -39,7 +33,7 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
     SCOPED_TRACE(id);
     const cv::Mat image = cv::imread((out / "images" / (id + ".png")).string(), cv::IMREAD_UNCHANGED);
     const cv::Mat mask = cv::imread((out / "masks" / (id + ".png")).string(), cv::IMREAD_UNCHANGED);
-    const std::string xml = read(out / "annotations" / (id + ".xml"));
+    const std::string xml = readText(out / "annotations" / (id + ".xml"));
     ASSERT_EQ(image.type(), CV_8UC3);
     ASSERT_EQ(mask.type(), CV_8UC1);
     EXPECT_EQ(image.size(), cv::Size(320, 200));

@@ -49,6 +49,34 @@ std::vector<float> featuresOf(const YAML::Node& list, std::size_t width, const s
   return f;
 }
 
+void addSample(const std::vector<float>& features, int label, Samples& out) {
+  if (features.empty()) return;  // not found by a colour model
+  out.rows.push_back(cv::Mat(features, true).reshape(1, 1));
+  out.labels.push_back(label);
+}
+
+/// Adds the samples of one pair's records (`where` names it).
+void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, std::size_t width, const std::string& where,
+             Samples& out) {
+  std::map<std::string, YAML::Node> objects;
+  for (const YAML::Node& o : pair["objects"]) {
+    objects[o["name"].as<std::string>()] = o;
+    if (!o["found"].as<bool>(false) || !o["designated"].as<bool>(false) || !o["eligible"].as<bool>(false)) continue;
+    const auto colour = std::find(colours.begin(), colours.end(), o["colour"].as<std::string>());
+    if (colour == colours.end()) continue;  // a designated colour the colour model does not name
+    addSample(featuresOf(o["detected"]["check_features"], width, where), static_cast<int>(colour - colours.begin()), out);
+  }
+  for (const YAML::Node& d : pair["false_detections"]) {
+    const std::string on = d["on"].as<std::string>("");
+    const auto it = objects.find(on);
+    if (!on.empty() && it == objects.end()) throw std::invalid_argument(where + ": a detection on unknown object " + on);
+    const bool ineligible_target =
+        it != objects.end() && it->second["designated"].as<bool>(false) && !it->second["eligible"].as<bool>(false);
+    if (ineligible_target) continue;  // neither a target nor a false one
+    addSample(featuresOf(d["check_features"], width, where), kBackground, out);
+  }
+}
+
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
 void addRecords(const std::string& path, const std::vector<std::string>& colours, std::size_t width, Samples& out) {
   const YAML::Node root = tools::loadRandomRecords(path);
@@ -56,29 +84,12 @@ void addRecords(const std::string& path, const std::vector<std::string>& colours
     throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
                                 "lack what the check turned down");
   }
-  auto add = [&](const std::vector<float>& f, int label) {
-    if (f.empty()) return;  // not found by a colour model
-    out.rows.push_back(cv::Mat(f, true).reshape(1, 1));
-    out.labels.push_back(label);
-  };
   for (const YAML::Node& pair : root["pairs"]) {
     const std::string where = path + ": seed " + pair["seed"].as<std::string>("?");
-    std::map<std::string, YAML::Node> objects;
-    for (const YAML::Node& o : pair["objects"]) {
-      objects[o["name"].as<std::string>()] = o;
-      if (!o["found"].as<bool>(false) || !o["designated"].as<bool>(false) || !o["eligible"].as<bool>(false)) continue;
-      const auto colour = std::find(colours.begin(), colours.end(), o["colour"].as<std::string>());
-      if (colour == colours.end()) continue;  // a designated colour the colour model does not name
-      add(featuresOf(o["detected"]["check_features"], width, where), static_cast<int>(colour - colours.begin()));
-    }
-    for (const YAML::Node& d : pair["false_detections"]) {
-      const std::string on = d["on"].as<std::string>("");
-      const auto it = objects.find(on);
-      if (!on.empty() && it == objects.end()) throw std::invalid_argument(where + ": a detection on unknown object " + on);
-      const bool ineligible_target = it != objects.end() && it->second["designated"].as<bool>(false) &&
-                                     !it->second["eligible"].as<bool>(false);
-      if (ineligible_target) continue;  // neither a target nor a false one
-      add(featuresOf(d["check_features"], width, where), kBackground);
+    try {
+      addPair(pair, colours, width, where, out);
+    } catch (const YAML::Exception& e) {  // a field of the wrong kind: named with its pair
+      throw std::invalid_argument(where + ": malformed record (" + e.what() + ")");
     }
   }
 }
