@@ -207,6 +207,9 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
 /// The share of the check's trees (colour_model.check_file) that take a detection with `check_features` for an object
 /// of any colour rather than background.
 double objectShare(const ColourModel& check, const std::vector<float>& check_features) {
+  if (check_features.empty()) {  // a learned candidate always has them (the configuration refuses other sources)
+    throw std::invalid_argument("check after stereo: a candidate without the colour model's features");
+  }
   const ColourVerdict v = check.classify(cv::Mat(check_features, true).reshape(1, 1)).front();
   return 1.0 - v.shares.front();  // shares: background first
 }

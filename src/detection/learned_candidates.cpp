@@ -183,8 +183,9 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                               "colour not designated in this configuration"});
     } else if (v.confidence < needed[v.colour]) {
       out.rejected.push_back({b.roi, colour, v.confidence, RejectionStage::kColourUncertain,
-                              formatted("colour confidence %.2f under its min_confidence %.2f", v.confidence,
-                                        needed[v.colour])});
+                              formatted(for_check ? "colour confidence %.2f under colour_model.check_from_confidence %.2f"
+                                                  : "colour confidence %.2f under its min_confidence %.2f",
+                                        v.confidence, needed[v.colour])});
     } else {
       named.push_back({std::move(b), v});
     }
