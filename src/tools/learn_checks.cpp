@@ -97,23 +97,13 @@ void addRecords(const std::string& path, const std::vector<std::string>& colours
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string config_path, out;
+  std::map<std::string, std::string> values{{"--config", ""}, {"--out", ""}};
   std::vector<std::string> inputs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (a == "--out" && i + 1 < argc) out = argv[++i];
-    else if (a == "--config" && i + 1 < argc) config_path = argv[++i];
-    else if (!a.empty() && a[0] == '-') {
-      std::cerr << "learn_checks: unknown option " << a << "\n" << kUsage;
-      return 2;
-    } else {
-      inputs.push_back(a);
-    }
+  if (const int code = tools::parseRecordsCommandLine(argc, argv, "learn_checks", kUsage, values, inputs); code >= 0) {
+    return code;
   }
+  const std::string& config_path = values["--config"];
+  const std::string& out = values["--out"];
   if (out.empty() || config_path.empty() || inputs.empty()) {
     std::cerr << "learn_checks: give --config, --out and at least one records file\n" << kUsage;
     return 2;

@@ -49,22 +49,12 @@ void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out;
+  std::map<std::string, std::string> values{{"--out", ""}};
   std::vector<std::string> inputs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (a == "--out" && i + 1 < argc) out = argv[++i];
-    else if (!a.empty() && a[0] == '-') {
-      std::cerr << "learn_shapes: unknown option " << a << "\n" << kUsage;
-      return 2;
-    } else {
-      inputs.push_back(a);
-    }
+  if (const int code = tools::parseRecordsCommandLine(argc, argv, "learn_shapes", kUsage, values, inputs); code >= 0) {
+    return code;
   }
+  const std::string& out = values["--out"];
   if (out.empty() || inputs.empty()) {
     std::cerr << "learn_shapes: give --out MODEL and at least one records file\n" << kUsage;
     return 2;

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -32,6 +34,29 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
     throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
   }
   return root;
+}
+
+/// Reads a learning tool's command line: --help, the options in `values` (each takes one value, e.g. "--out"), and
+/// the records files. @return -1 to go on, or the exit code to leave with (0 after --help, 2 after an unknown option
+/// or an option without its value), with the usage printed.
+inline int parseRecordsCommandLine(int argc, char** argv, const std::string& tool, const char* usage,
+                                   std::map<std::string, std::string>& values, std::vector<std::string>& inputs) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      std::cout << usage;
+      return 0;
+    }
+    if (values.count(a) != 0 && i + 1 < argc) {
+      values[a] = argv[++i];
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << tool << ": unknown option or option without its value: " << a << "\n" << usage;
+      return 2;
+    } else {
+      inputs.push_back(a);
+    }
+  }
+  return -1;
 }
 
 }  // namespace tools
