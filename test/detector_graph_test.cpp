@@ -14,6 +14,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
+#include <utility>
 #include <cctype>
 #include <cstdio>
 #include <map>
@@ -315,6 +316,7 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
     std::string name, expected_in_message;
     std::function<void(sensor_msgs::Image&, sensor_msgs::CameraInfo&, sensor_msgs::Image&, sensor_msgs::CameraInfo&)> spoil;
     double right_offset_s = 0.0;
+    int pairs = 1;  ///< sent this many times (stamps 0.1 s apart); the last must be refused
   };
   // Every expected text is one no other case's message holds: an error stays in the summary for 5 s.
   const std::vector<Case> cases{
@@ -361,6 +363,8 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
        [](auto&, auto& li, auto&, auto&) { li.D = {500, -500, 0, 0, 0}; }},
       {"focal length 1e-6 px", "K[0] (fx) = 1e-06 px",
        [](auto&, auto& li, auto&, auto&) { li.K[0] = 1e-6; }},
+      {"left and right images swapped", "left and right images look swapped",
+       [](auto& l, auto&, auto& r, auto&) { std::swap(l.data, r.data); }, 0.0, 3},
   };
   ros::Time stamp(1000.0);
   for (const Case& c : cases) {
@@ -372,6 +376,10 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
       listener.diagnostics.clear();
     }
     stamp += ros::Duration(1.0);
+    for (int k = 1; k < c.pairs; ++k) {
+      pub.send(l, li, r, ri, stamp, c.right_offset_s);
+      stamp += ros::Duration(0.1);
+    }
     pub.send(l, li, r, ri, stamp, c.right_offset_s);
     // Approximate sync emits a set once later messages show it is the best one: follow with a second.
     if (c.right_offset_s != 0) pub.send(l, li, r, ri, stamp + ros::Duration(0.5), c.right_offset_s);

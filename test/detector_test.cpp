@@ -190,6 +190,23 @@ TEST(Detector, EmptySceneGivesNothing) {
   EXPECT_TRUE(detector.detect(pair.left, pair.right).objects.empty());
 }
 
+TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
+  const sim::Renderer renderer(twoBuoys());
+  Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  EXPECT_FALSE(detector.detect(pair.left, pair.right).looks_swapped);
+  const DetectionResult r = detector.detect(pair.right, pair.left);
+  EXPECT_TRUE(r.looks_swapped);
+  EXPECT_TRUE(r.objects.empty());  // not two buoys at confident, wrong ranges
+  int swapped = 0;
+  for (const Rejection& rejected : r.rejected) {
+    if (rejected.stage != RejectionStage::kLeftRightSwapped) continue;
+    ++swapped;
+    EXPECT_NE(rejected.reason.find("swapped"), std::string::npos) << rejected.reason;
+  }
+  EXPECT_EQ(swapped, 2);
+}
+
 TEST(Detector, TwoDimensionalModeNeedsNoCalibration) {
   const sim::Renderer renderer(twoBuoys());
   Detector detector(defaultConfig());

@@ -103,5 +103,8 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
       << readText(dir / "learn.log");
   EXPECT_EQ(learn("{\"pairs\": 3}", "no_pairs.json"), 1);
   EXPECT_NE(readText(dir / "learn.log").find("no \"pairs\" list"), std::string::npos) << readText(dir / "learn.log");
+  EXPECT_EQ(learn("{\"config\": \"c --without-check --swapped\", \"pairs\": []}", "swapped.json"), 1);
+  EXPECT_NE(readText(dir / "learn.log").find("swapped.json: made with --swapped"), std::string::npos)
+      << readText(dir / "learn.log");
   fs::remove_all(dir);
 }

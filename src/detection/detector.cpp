@@ -311,7 +311,8 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           const cv::Mat& left_colour, StageTimings& t, Rejection& rejected) const {
+                                           const cv::Mat& left_colour, StageTimings& t, Rejection& rejected,
+                                           ObjectOrderEvidence* order) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
   rejected = Rejection{c.roi, colour.name, c.colour_fraction, RejectionStage::kTooFewPoints, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
@@ -321,6 +322,11 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   t.rectify_ms += roi_points.rectify_ms;
   t.matching_ms += roi_points.matching_ms;
   t.reprojection_ms += roi_points.reprojection_ms;
+  if (order) {  // without a silhouette: is the object's view on the wrong side, as in a swapped pair?
+    order->silhouette = std::isfinite(roi_points.silhouette_disparity);
+    if (!order->silhouette) order->order = matcher_->stereoOrder(left, right, c.roi);
+    t.matching_ms += stage.lapMs();
+  }
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
   t.cluster_ms += stage.lapMs();
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
@@ -416,7 +422,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
   std::vector<Rejection> why(n);
-  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected) {
+  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected, ObjectOrderEvidence* order) {
     cv::Mat right_colour = whole_right_colour;
     cv::Point origin;
     if (right_colour.empty()) {
@@ -436,16 +442,32 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                     config_.search_scale);
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, t, rejected);
+    return measure(c, left, right, right_colour, origin, left_colour, t, rejected, order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may
   // spread it over the cores.
+  std::vector<ObjectOrderEvidence> evidence(n);
   workOnThreads(n, config_.pair_threads, [&](int i) {
     const int k = order[i];
-    found[k] = measureOne(front.candidates[k], times[k], why[k]);
+    found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k]);
   });
-  joinPieces(front.candidates, found, why, times, measureOne, left.size(), kPieceGapInEps * config_.cluster.eps_m);
+  result.looks_swapped = pairLooksSwapped(evidence);
+  if (result.looks_swapped) {
+    const auto swapped = std::count_if(evidence.begin(), evidence.end(), [](const auto& e) { return e.order.looksSwapped(); });
+    for (int k = 0; k < n; ++k) {
+      if (!found[k]) continue;
+      why[k] = Rejection{found[k]->roi, found[k]->colour, front.candidates[k].colour_fraction, RejectionStage::kLeftRightSwapped,
+                         "the pair looks swapped: no object's silhouette lies where the right image should show it, and " +
+                             std::to_string(swapped) + " of " + std::to_string(n) +
+                             " objects' views lie right of their left ones (left and right images given the wrong way round?)"};
+      found[k].reset();
+    }
+  } else {
+    joinPieces(front.candidates, found, why, times,
+               [&](const Candidate& c, StageTimings& t, Rejection& r) { return measureOne(c, t, r, nullptr); }, left.size(),
+               kPieceGapInEps * config_.cluster.eps_m);
+  }
   for (int k = 0; k < n; ++k) {
     addObjectStages(result.timings, times[k]);
     if (found[k]) {

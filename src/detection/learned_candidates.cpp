@@ -98,6 +98,7 @@ std::string rejectionStageName(RejectionStage stage) {
     case RejectionStage::kNoFit: return "no shape fit";
     case RejectionStage::kWrongSize: return "wrong size";
     case RejectionStage::kCheckAfterStereo: return "turned down after stereo";
+    case RejectionStage::kLeftRightSwapped: return "left and right swapped";
     case RejectionStage::kPieceOfObject: return "piece of an object";
   }
   return "?";

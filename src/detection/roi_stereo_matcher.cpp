@@ -405,6 +405,23 @@ bool RoiStereoMatcher::inWorkspace(double disparity) const {
   return disparity >= fb / config_.max_depth_m && disparity <= fb / config_.min_depth_m;
 }
 
+StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const {
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  // The right camera's raw row of the roi's centre at the workspace's middle disparity: the left raw centre
+  // rectified, moved along the rectified row, turned back into the right camera's raw frame and distorted.
+  const CameraCalibration &l = calibration_.left, &r = calibration_.right;
+  const cv::Point2f centre(roi.x + roi.width / 2.0F, roi.y + roi.height / 2.0F);
+  std::vector<cv::Point2f> rectified;
+  cv::undistortPoints(std::vector<cv::Point2f>{centre}, rectified, cv::Mat(l.K), cv::Mat(l.D), cv::Mat(l.R));
+  const double f = calibration_.focalPx(), disparity = 0.5 * (d_lo + d_hi);
+  const cv::Vec3d ray = r.R.t() * cv::Vec3d(rectified[0].x - disparity / f, rectified[0].y, 1.0);
+  std::vector<cv::Point2f> raw;
+  cv::projectPoints(std::vector<cv::Point3f>{cv::Point3f(ray[0], ray[1], ray[2])}, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
+                    cv::Mat(r.K), cv::Mat(r.D), raw);
+  const double row_offset = std::isfinite(raw[0].y) ? raw[0].y - centre.y : 0.0;
+  return compareStereoOrder(left, right, roi, d_lo, d_hi, row_offset);
+}
+
 std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
   return {static_cast<int>(std::floor(f * baseline / config_.max_depth_m)),

@@ -141,6 +141,10 @@ cv::Mat readImage(const std::string& path) {
 
 /// The frame's lines, written out at once (a run stopped later keeps them).
 void print(const std::string& file, const DetectionResult& r, bool with_3d, bool explain) {
+  if (r.looks_swapped) {
+    std::cerr << "detect_files: " << file << ": left and right images look swapped (no object reported; --explain "
+              << "says why)" << std::endl;
+  }
   if (r.objects.empty()) std::cout << emptyFrameJson(file, r.quality) << '\n';
   for (std::size_t i = 0; i < r.objects.size(); ++i) {
     std::cout << detectionJson(file, static_cast<int>(i), r.objects[i], r.quality, with_3d) << '\n';

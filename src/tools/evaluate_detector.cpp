@@ -36,7 +36,7 @@ using namespace underwater_stereo;
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
-    "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check]\n"
+    "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check] [--swapped]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--size WxH]\n"
     "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
@@ -47,7 +47,8 @@ const char* kUsage =
     "    hand-made rules, the config's shape.model_file not read (the records a new shape model learns from,\n"
     "    also when the shape features changed and the old model is refused); --without-check: every detection\n"
     "    the colour model passes from colour_model.check_from_confidence on, the config's check_file not read\n"
-    "    (the records learn_checks learns from: each detection with its check features).\n"
+    "    (the records learn_checks learns from: each detection with its check features); --swapped: each pair\n"
+    "    given the wrong way round (the right image as the left): what a head wired swapped reports.\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
     "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered).\n";
@@ -184,6 +185,7 @@ struct RandomOptions {
   int jobs = 1;
   std::string json_path, worst_dir;
   std::size_t worst = 0;
+  bool swapped = false;  ///< each pair given the wrong way round
 };
 
 double msSince(std::chrono::steady_clock::time_point start) {
@@ -192,13 +194,14 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 /// Pair `seed` sampled, rendered and detected; also hands back the rendered pair and result when asked.
 tools::PairRecord runPair(const sim::SceneSamplerConfig& sampler, const sim::Renderer& head, const Detector& detector,
-                          std::uint64_t seed, cv::Mat* left_bgr = nullptr, DetectionResult* result_out = nullptr) {
+                          std::uint64_t seed, bool swapped, cv::Mat* left_bgr = nullptr,
+                          DetectionResult* result_out = nullptr) {
   const auto started = std::chrono::steady_clock::now();
   const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
   const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
   const double render_ms = msSince(started);
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
-  const DetectionResult result = detector.detect(left, right);
+  const DetectionResult result = swapped ? detector.detect(right, left) : detector.detect(left, right);
   const cv::Mat bgr = left.bgr();
   tools::PairRecord record = tools::evaluatePair(sampled, pair, result, sim::meanLuma(bgr));
   record.render_ms = render_ms;
@@ -279,7 +282,7 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
   auto work = [&]() {
     for (int i = next++; i < opt.pairs; i = next++) {
       try {
-        records[i] = runPair(sampler, head, detector, opt.seed + static_cast<std::uint64_t>(i));
+        records[i] = runPair(sampler, head, detector, opt.seed + static_cast<std::uint64_t>(i), opt.swapped);
       } catch (const std::exception& e) {
         const std::lock_guard<std::mutex> lock(error_mutex);
         error = "seed " + std::to_string(opt.seed + i) + ": " + e.what();
@@ -315,7 +318,7 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
     for (const auto& [p, o] : tools::worstFailures(records, opt.worst)) {
       cv::Mat bgr;
       DetectionResult result;
-      const tools::PairRecord again = runPair(sampler, head, detector, records[p].seed, &bgr, &result);
+      const tools::PairRecord again = runPair(sampler, head, detector, records[p].seed, opt.swapped, &bgr, &result);
       std::ostringstream name;
       name << opt.worst_dir << "/worst_" << std::setw(3) << std::setfill('0') << ++rank << "_seed" << records[p].seed
            << "_" << records[p].objects[o].name << ".png";
@@ -396,6 +399,7 @@ int main(int argc, char** argv) {
       else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
       else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
       else if (a == "--json") random.json_path = value();
+      else if (a == "--swapped") random.swapped = true;
       else if (a == "--worst") {
         random.worst = static_cast<std::size_t>(integer(1, 100000));
         random.worst_dir = value();
@@ -414,8 +418,8 @@ int main(int argc, char** argv) {
     if (config_path.empty()) throw std::invalid_argument("--config is required");
     if (modes != 1) throw std::invalid_argument("give scene files, --random N or --paper-brightness (one of them)");
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1) && random.pairs == 0) {
-      throw std::invalid_argument("--json, --worst and --jobs go with --random");
+    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1 || random.swapped) && random.pairs == 0) {
+      throw std::invalid_argument("--json, --worst, --jobs and --swapped go with --random");
     }
     const std::vector<std::string> problems = sampler.validate();
     if (!problems.empty()) throw std::invalid_argument(problems.front());
@@ -446,10 +450,11 @@ int main(int argc, char** argv) {
     }
   }
   try {
-    // The records say how shapes were decided (their "config").
+    // The records say how shapes were decided and how pairs were given (their "config").
     if (random.pairs > 0) {
       return evaluateRandom(config,
-                            config_path + (shape_rules ? " --shape-rules" : "") + (without_check ? " --without-check" : ""),
+                            config_path + (shape_rules ? " --shape-rules" : "") +
+                                (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : ""),
                             sampler, random);
     }
     if (paper_brightness) return evaluatePaperBrightness(config, sampler, random.seed);

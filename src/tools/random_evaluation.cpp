@@ -168,6 +168,7 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   rec.luma = luma;
   rec.quality = qualityStatusName(result.quality.status);
   rec.detect_ms = result.timings.total_ms;
+  rec.looks_swapped = result.looks_swapped;
   const cv::Size size = pair.left_labels.size();
   const Eigen::Vector3d attenuation = sampled.scene.water.attenuation_per_m;
   for (std::size_t i = 0; i < pair.ground_truth.size(); ++i) {
@@ -281,6 +282,9 @@ void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
   out << "False detections on:" << (falses.empty() ? " none" : "");
   for (const auto& [what, n] : falses) out << " " << what << " " << n << ";";
   out << "\n";
+  out << "Pairs taken for left and right swapped (nothing reported): "
+      << std::count_if(pairs.begin(), pairs.end(), [](const PairRecord& p) { return p.looks_swapped; }) << " of "
+      << pairs.size() << "\n";
 }
 
 void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const std::string& config_path) {

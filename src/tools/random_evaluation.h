@@ -63,6 +63,7 @@ struct PairRecord {
   double luma = 0.0;                ///< mean BT.601 luma of the demosaiced left image
   std::string quality;              ///< the detector's quality status
   double render_ms = 0.0, detect_ms = 0.0;
+  bool looks_swapped = false;       ///< the detector took it for a pair in the wrong order (DetectionResult)
   std::vector<ObjectRecord> objects;
   std::vector<FalseRecord> false_detections;
 };

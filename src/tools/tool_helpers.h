@@ -22,7 +22,8 @@ inline double percentile(std::vector<double> v, double q) {
 }
 
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
-/// @throw std::invalid_argument naming the file when it is not readable or holds no "pairs" list.
+/// @throw std::invalid_argument naming the file when it is not readable, holds no "pairs" list or was made with
+/// --swapped.
 inline YAML::Node loadRandomRecords(const std::string& path) {
   YAML::Node root;
   try {
@@ -32,6 +33,9 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
   }
   if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
     throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
+  }
+  if (root["config"] && root["config"].as<std::string>("").find(" --swapped") != std::string::npos) {
+    throw std::invalid_argument(path + ": made with --swapped (pairs given the wrong way round): nothing to learn from");
   }
   return root;
 }

@@ -14,6 +14,7 @@
 #include "underwater_stereo/detection/outline_kind.h"
 #include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/detection/shape_kind.h"
+#include "underwater_stereo/detection/stereo_order.h"
 #include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -56,6 +57,9 @@ struct DetectionResult {
   /// Regions looked at and not reported, with why (learned colours: colour too uncertain; any source: too
   /// few 3D points, wrong metric size for its colour...).
   std::vector<Rejection> rejected;
+  /// The pair looks as if its left and right images came swapped (stereo_order.h, pairLooksSwapped): none of its
+  /// objects is reported, each is rejected as RejectionStage::kLeftRightSwapped.
+  bool looks_swapped = false;
   StageTimings timings;
 };
 
@@ -88,7 +92,8 @@ class Detector {
   /// Stereo, clustering and shape of one candidate (the masks as RoiStereoMatcher::match takes them).
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                   const cv::Mat& left_colour, StageTimings& t, Rejection& rejected) const;
+                                   const cv::Mat& left_colour, StageTimings& t, Rejection& rejected,
+                                   ObjectOrderEvidence* order = nullptr) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)

@@ -58,6 +58,7 @@ enum class RejectionStage {
   kNoFit,                ///< the shape fit gave no finite position or size
   kWrongSize,            ///< metric size outside its colour's configured range
   kCheckAfterStereo,     ///< the check after stereo (colour_model.check_file) takes it for background
+  kLeftRightSwapped,     ///< its pair looks as if left and right images were swapped (stereo_order.h)
   kPieceOfObject,        ///< measured again as part of a larger detection of its colour
 };
 constexpr int kRejectionStageCount = static_cast<int>(RejectionStage::kPieceOfObject) + 1;

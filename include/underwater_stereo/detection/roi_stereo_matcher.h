@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/raw_frame.h"
+#include "underwater_stereo/detection/stereo_order.h"
 #include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -81,6 +82,10 @@ class RoiStereoMatcher {
   cv::Rect rectifiedBox(const cv::Rect& raw_roi) const;
 
   const StereoCalibration& calibration() const { return calibration_; }
+
+  /// How the left image's patch over `roi` (raw pixels) matches the right image at the workspace's disparities of
+  /// either sign (compareStereoOrder): whether the pair looks swapped there.
+  StereoOrder stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const;
 
  private:
   /// `box`: the object's rectified box (rectifiedBox(roi)).

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Whether a stereo pair came in the wrong order (left and right images swapped): in a right image an object lies
+// left of where the left image shows it (positive disparity); in a swapped pair it lies right of it, and without
+// this check block matching would measure it at a confident, wrong range.
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+#include "underwater_stereo/detection/raw_frame.h"
+
+namespace underwater_stereo {
+
+/// How well an object's patch of the left image matches the right image shifted each way.
+struct StereoOrder {
+  /// Best normalised cross-correlation (-1..1) over the workspace's disparities: `forward` where the right view
+  /// lies left of the left one (as it should), `backward` where it lies right of it (as in a swapped pair).
+  double forward = -1, backward = -1;
+  /// The backward match is plain and clearly better than any forward one.
+  bool looksSwapped() const;
+};
+
+/// Compares the left image's patch over `roi` (raw pixels) with the right image at disparities of either sign
+/// whose size is within [min_disparity, max_disparity] px (the workspace's far and near ends), on unrectified grey
+/// images scaled so that the patch is at most 64 px across. `row_offset_px`: how many raw rows lower the right
+/// image shows the object than the left one (from the calibration: cameras are never exactly aligned); a swapped
+/// pair shows it that many rows higher. Disparities the image cannot hold on one side are not compared there.
+/// @throw std::invalid_argument when the frames differ in size, `roi` is not inside them or the offset is not finite.
+StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_disparity,
+                               int max_disparity, double row_offset_px);
+
+/// What one measured object says about its pair's order.
+struct ObjectOrderEvidence {
+  bool silhouette = false;  ///< its silhouette was found in the right image at a disparity of the workspace
+  StereoOrder order;        ///< compared only where no silhouette was found
+};
+
+/// A pair looks swapped when at least half of its measured objects (and at least one) look swapped, and no fewer
+/// of them than found their silhouette where it should be (in a swapped pair a silhouette is now and then found in
+/// the wrong place, on a neighbour). One object alone may look either way (a repeated pattern, a view cut by the
+/// border); most of a pair's objects that do make a pair in the wrong order.
+bool pairLooksSwapped(const std::vector<ObjectOrderEvidence>& objects);
+
+}  // namespace underwater_stereo

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Whether a pair came with its left and right images swapped (stereo_order.h).
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "underwater_stereo/detection/stereo_order.h"
+
+using namespace underwater_stereo;
+
+namespace {
+
+/// A grey frame of flat water with a shaded disc of radius 30 px centred at column `x`, row `y`.
+cv::Mat discAt(int x, int y = 100) {
+  cv::Mat frame(200, 400, CV_8UC1, cv::Scalar(60));
+  for (int r = 30; r > 0; r -= 3) cv::circle(frame, {x, y}, r, cv::Scalar(200 - 4 * r), cv::FILLED, cv::LINE_AA);
+  return frame;
+}
+
+const cv::Rect kDiscInLeft(200 - 32, 100 - 32, 64, 64);  // around the disc at column 200
+
+}  // namespace
+
+TEST(StereoOrder, AnObjectsRightViewLeftOfItsLeftOneIsInOrder) {
+  const cv::Mat left = discAt(200), right = discAt(160);  // disparity 40
+  const StereoOrder o = compareStereoOrder(left, right, kDiscInLeft, 10, 100, 0.0);
+  EXPECT_GT(o.forward, 0.9);
+  EXPECT_LT(o.backward, 0.5);
+  EXPECT_FALSE(o.looksSwapped());
+}
+
+TEST(StereoOrder, TheSamePairSwappedLooksSwapped) {
+  const cv::Mat left = discAt(200), right = discAt(160);
+  const StereoOrder o = compareStereoOrder(right, left, cv::Rect(160 - 32, 100 - 32, 64, 64), 10, 100, 0.0);
+  EXPECT_GT(o.backward, 0.9);
+  EXPECT_TRUE(o.looksSwapped());
+}
+
+TEST(StereoOrder, TheRightCamerasRowOffsetIsLookedForOnEachSide) {
+  // The right camera shows everything 12 rows lower (a slight tilt between the cameras): a swapped pair 12 higher.
+  const cv::Mat left = discAt(200), right = discAt(160, 112);
+  EXPECT_GT(compareStereoOrder(left, right, kDiscInLeft, 10, 100, 12.0).forward, 0.9);
+  const StereoOrder swapped = compareStereoOrder(right, left, cv::Rect(160 - 32, 112 - 32, 64, 64), 10, 100, 12.0);
+  EXPECT_GT(swapped.backward, 0.9);
+  EXPECT_TRUE(swapped.looksSwapped());
+  EXPECT_THROW(compareStereoOrder(left, right, kDiscInLeft, 10, 100, std::nan("")), std::invalid_argument);
+}
+
+TEST(StereoOrder, AFlatPatchOrAViewBeyondTheImageSaysNothing) {
+  const cv::Mat flat(200, 400, CV_8UC1, cv::Scalar(60));
+  const StereoOrder o = compareStereoOrder(flat, flat, kDiscInLeft, 10, 100, 0.0);
+  EXPECT_FALSE(o.looksSwapped());
+  // Disparities under the workspace's smallest are not compared: an object at infinity (disparity 0) is no view.
+  const StereoOrder far = compareStereoOrder(discAt(200), discAt(200), kDiscInLeft, 10, 100, 0.0);
+  EXPECT_FALSE(far.looksSwapped());
+  EXPECT_LT(far.forward, 0.9);
+}
+
+TEST(StereoOrder, RefusesFramesOfOtherSizesAndARegionOutsideThem) {
+  EXPECT_THROW(compareStereoOrder(discAt(200), cv::Mat(100, 100, CV_8UC1, cv::Scalar(0)), kDiscInLeft, 10, 100, 0.0),
+               std::invalid_argument);
+  EXPECT_THROW(compareStereoOrder(discAt(200), discAt(160), cv::Rect(380, 0, 64, 64), 10, 100, 0.0), std::invalid_argument);
+}
+
+TEST(StereoOrder, APairLooksSwappedWhenHalfItsObjectsDoAndNoFewerFoundTheirSilhouette) {
+  const ObjectOrderEvidence swapped{false, {0.2, 0.95}}, unsure{false, {0.5, 0.6}}, in_order{false, {0.9, 0.3}};
+  ObjectOrderEvidence with_silhouette;
+  with_silhouette.silhouette = true;
+  EXPECT_FALSE(pairLooksSwapped({}));
+  EXPECT_TRUE(pairLooksSwapped({swapped}));
+  EXPECT_TRUE(pairLooksSwapped({swapped, unsure}));
+  EXPECT_FALSE(pairLooksSwapped({swapped, unsure, in_order}));
+  EXPECT_FALSE(pairLooksSwapped({unsure}));
+  EXPECT_TRUE(pairLooksSwapped({swapped, with_silhouette}));
+  EXPECT_TRUE(pairLooksSwapped({swapped, swapped, with_silhouette}));
+  EXPECT_FALSE(pairLooksSwapped({swapped, with_silhouette, with_silhouette}));
+}
