@@ -422,7 +422,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
   std::vector<Rejection> why(n);
-  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected, ObjectOrderEvidence* order) {
+  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected, ObjectOrderEvidence* pair_order) {
     cv::Mat right_colour = whole_right_colour;
     cv::Point origin;
     if (right_colour.empty()) {
@@ -442,7 +442,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                     config_.search_scale);
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, t, rejected, order);
+    return measure(c, left, right, right_colour, origin, left_colour, t, rejected, pair_order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may
@@ -455,12 +455,15 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   result.looks_swapped = pairLooksSwapped(evidence);
   if (result.looks_swapped) {
     const auto swapped = std::count_if(evidence.begin(), evidence.end(), [](const auto& e) { return e.order.looksSwapped(); });
+    const auto silhouettes = std::count_if(evidence.begin(), evidence.end(), [](const auto& e) { return e.silhouette; });
+    const std::string reason = "the pair looks swapped: " + std::to_string(swapped) + " of " + std::to_string(n) +
+                               " objects' views lie right of their left ones in the right image, " +
+                               std::to_string(silhouettes) +
+                               " found their silhouette where it should be (left and right images the wrong way round?)";
     for (int k = 0; k < n; ++k) {
       if (!found[k]) continue;
-      why[k] = Rejection{found[k]->roi, found[k]->colour, front.candidates[k].colour_fraction, RejectionStage::kLeftRightSwapped,
-                         "the pair looks swapped: no object's silhouette lies where the right image should show it, and " +
-                             std::to_string(swapped) + " of " + std::to_string(n) +
-                             " objects' views lie right of their left ones (left and right images given the wrong way round?)"};
+      why[k] = Rejection{found[k]->roi, found[k]->colour, front.candidates[k].colour_fraction,
+                         RejectionStage::kLeftRightSwapped, reason};
       found[k].reset();
     }
   } else {
