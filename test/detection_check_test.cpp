@@ -131,6 +131,6 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   const cv::Mat other_row(1, static_cast<int>(checkFeatureNames(others).size()), CV_32F, cv::Scalar(0));
   checkNaming(other_row, -1, others)->save(::testing::TempDir() + "other_check.yml.gz");
   const std::string other = refusalOf(head + "colour_model: {file: " + model + ", check_file: other_check.yml.gz}");
-  EXPECT_NE(other.find("colour_model.check_file: colour model"), std::string::npos) << other;
+  EXPECT_NE(other.find("colour_model.check_file: check model"), std::string::npos) << other;
   EXPECT_NE(other.find("made for other features"), std::string::npos) << other;
 }

@@ -53,15 +53,16 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   return m;
 }
 
-ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names) {
-  if (!std::ifstream(path)) throw std::invalid_argument("colour model " + path + ": cannot be opened");
+ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names, const std::string& what) {
+  const std::string named = what + " " + path;
+  if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& e) {
-    throw std::invalid_argument("colour model " + path + ": unreadable (" + e.msg + ")");
+    throw std::invalid_argument(named + ": unreadable (" + e.msg + ")");
   }
-  if (!fs.isOpened()) throw std::invalid_argument("colour model " + path + ": cannot be opened");
+  if (!fs.isOpened()) throw std::invalid_argument(named + ": cannot be opened");
   ColourModel m;
   m.features_ = names;
   std::vector<std::string> features;
@@ -70,19 +71,19 @@ ColourModel ColourModel::load(const std::string& path, const std::vector<std::st
     fs["features"] >> features;
     // A model of an earlier build reads the first of today's features (new ones are only ever appended).
     if (features.empty() || features.size() > names.size() || !std::equal(features.begin(), features.end(), names.begin())) {
-      throw std::invalid_argument("colour model " + path + ": made for other features (" + std::to_string(features.size()) +
+      throw std::invalid_argument(named + ": made for other features (" + std::to_string(features.size()) +
                                   " named; this build computes " + std::to_string(names.size()) + "): learn it again");
     }
     m.feature_count_ = static_cast<int>(features.size());
-    if (m.colours_.empty()) throw std::invalid_argument("colour model " + path + ": names no colours");
-    m.forest_ = readStoredForest(fs["forest"], m.feature_count_, "colour model " + path + ": ");
+    if (m.colours_.empty()) throw std::invalid_argument(named + ": names no colours");
+    m.forest_ = readStoredForest(fs["forest"], m.feature_count_, named + ": ");
   } catch (const cv::Exception& e) {
-    throw std::invalid_argument("colour model " + path + ": invalid (" + e.msg + ")");
+    throw std::invalid_argument(named + ": invalid (" + e.msg + ")");
   }
   try {  // also refuses a forest that is no trained classifier of feature_count_ features
     m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument("colour model " + path + ": " + e.what());
+    throw std::invalid_argument(named + ": " + e.what());
   }
   return m;
 }

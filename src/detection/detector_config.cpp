@@ -266,7 +266,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
         f.fail("colour_model.check_file: the check reads the colour model's votes, and no colour_model.file is loaded");
       } else {
         try {  // a check learnt over another colour model's colours is refused by its feature names
-          l.check = std::make_shared<const ColourModel>(ColourModel::load(l.check_file, checkFeatureNames(l.model->colours())));
+          l.check = std::make_shared<const ColourModel>(
+              ColourModel::load(l.check_file, checkFeatureNames(l.model->colours()), "check model"));
         } catch (const std::invalid_argument& e) {
           f.fail(std::string("colour_model.check_file: ") + e.what());
         }

@@ -40,9 +40,11 @@ class ColourModel {
   static ColourModel train(const cv::Mat& samples, const std::vector<int>& labels, const std::vector<std::string>& colours,
                            const ColourModelTraining& options,
                            const std::vector<std::string>& features = blobFeatureNames());
-  /// A model of `features` (a model of an earlier build may read only their first ones).
+  /// A model of `features` (a model of an earlier build may read only their first ones); `what` names it in errors
+  /// ("colour model", "check model").
   /// @throw std::invalid_argument naming the file when it cannot be read or is not a model of these features.
-  static ColourModel load(const std::string& path, const std::vector<std::string>& features = blobFeatureNames());
+  static ColourModel load(const std::string& path, const std::vector<std::string>& features = blobFeatureNames(),
+                          const std::string& what = "colour model");
   /// @throw std::runtime_error naming the file when it cannot be written.
   void save(const std::string& path) const;
 
