@@ -43,6 +43,18 @@ TEST(LearnColours, AConfigLearntOverTheDefaultLoadsFromAnotherFolder) {
   ASSERT_TRUE(c.learned.model);
   EXPECT_EQ(c.learned.model->colours(), (std::vector<std::string>{"red", "green"}));
   EXPECT_FALSE(c.learned.check);
+
+  // A base whose colour model and check are missing serves as well: both are replaced, never read.
+  YAML::Node moved = YAML::LoadFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  moved["colour_model"]["file"] = (dir / "missing.colour_model.yml.gz").string();
+  moved["colour_model"]["check_file"] = (dir / "missing.check_model.yml.gz").string();
+  moved["shape"]["model_file"] = UWS_SOURCE_DIR "/config/" + moved["shape"]["model_file"].as<std::string>();
+  std::ofstream(dir / "moved.yaml") << moved;
+  std::string from_moved = learn;
+  from_moved.replace(from_moved.find(UWS_SOURCE_DIR "/config/detector.yaml"),
+                     std::string(UWS_SOURCE_DIR "/config/detector.yaml").size(), (dir / "moved.yaml").string());
+  ASSERT_EQ(runTool(from_moved, dir / "learn_moved.log"), 0) << readText(dir / "learn_moved.log");
+  EXPECT_TRUE(loadDetectorConfigFile((dir / "pool/pool.yaml").string()).learned.model);
   fs::remove_all(dir);
 }
 

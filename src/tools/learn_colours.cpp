@@ -391,8 +391,17 @@ int main(int argc, char** argv) {
   try {
     o = parse(argc, argv);
     if (o.base.empty()) o.base = std::string(UWS_SOURCE_DIR) + "/config/detector.yaml";
-    base = loadDetectorConfigFile(o.base);
-    if (base.learned.check) {  // it reads the base's colour model's votes (learnedConfig leaves it out)
+    // The base's colour model and check are replaced, never read: a base whose model files are missing serves.
+    bool base_has_check = false;
+    base = loadDetectorConfigFile(o.base, [&](YAML::Node& root) {
+      if (!root.IsMap() || !root["colour_model"] || !root["colour_model"].IsMap()) return;
+      YAML::Node model = root["colour_model"];
+      base_has_check = model["check_file"].IsDefined();
+      model.remove("file");
+      model.remove("check_file");
+      if (root["candidates"] && root["candidates"].IsMap()) root["candidates"]["source"] = "colour_mask";
+    });
+    if (base_has_check) {  // it reads the base's colour model's votes (learnedConfig leaves it out)
       std::fprintf(stderr, "learn_colours: the base's colour_model.check_file is neither used nor written (learn_checks "
                    "learns a check for the new colour model)\n");
     }
