@@ -48,7 +48,7 @@ TEST(StereoOrder, TheRightCamerasRowOffsetIsLookedForOnEachSide) {
   EXPECT_THROW(compareStereoOrder(left, right, kDiscInLeft, 10, 100, std::nan("")), std::invalid_argument);
 }
 
-TEST(StereoOrder, AFlatPatchOrAViewBeyondTheImageSaysNothing) {
+TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
   const cv::Mat flat(200, 400, CV_8UC1, cv::Scalar(60));
   const StereoOrder o = compareStereoOrder(flat, flat, kDiscInLeft, 10, 100, 0.0);
   EXPECT_FALSE(o.looksSwapped());
@@ -56,6 +56,10 @@ TEST(StereoOrder, AFlatPatchOrAViewBeyondTheImageSaysNothing) {
   const StereoOrder far = compareStereoOrder(discAt(200), discAt(200), kDiscInLeft, 10, 100, 0.0);
   EXPECT_FALSE(far.looksSwapped());
   EXPECT_LT(far.forward, 0.9);
+  // A region too thin to keep 4 pixels across when scaled to the compared size is not compared.
+  const StereoOrder thin = compareStereoOrder(discAt(200), discAt(160), cv::Rect(0, 100, 400, 3), 10, 100, 0.0);
+  EXPECT_EQ(thin.forward, -1.0);
+  EXPECT_EQ(thin.backward, -1.0);
 }
 
 TEST(StereoOrder, RefusesFramesOfOtherSizesAndARegionOutsideThem) {

@@ -407,19 +407,24 @@ bool RoiStereoMatcher::inWorkspace(double disparity) const {
 
 StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const {
   const auto [d_lo, d_hi] = workspaceDisparities();
-  // The right camera's raw row of the roi's centre at the workspace's middle disparity: the left raw centre
-  // rectified, moved along the rectified row, turned back into the right camera's raw frame and distorted.
+  // Where the right camera's raw image shows the roi's centre at the workspace's far and near ends: the left raw
+  // centre rectified, moved along the rectified row, turned back into the right camera's raw frame and distorted.
   const CameraCalibration &l = calibration_.left, &r = calibration_.right;
   const cv::Point2f centre(roi.x + roi.width / 2.0F, roi.y + roi.height / 2.0F);
   std::vector<cv::Point2f> rectified;
   cv::undistortPoints(std::vector<cv::Point2f>{centre}, rectified, cv::Mat(l.K), cv::Mat(l.D), cv::Mat(l.R));
-  const double f = calibration_.focalPx(), disparity = 0.5 * (d_lo + d_hi);
-  const cv::Vec3d ray = r.R.t() * cv::Vec3d(rectified[0].x - disparity / f, rectified[0].y, 1.0);
+  const double f = calibration_.focalPx();
+  std::vector<cv::Point3f> rays;
+  for (const int d : {d_lo, d_hi}) {
+    const cv::Vec3d ray = r.R.t() * cv::Vec3d(rectified[0].x - d / f, rectified[0].y, 1.0);
+    rays.emplace_back(ray[0], ray[1], ray[2]);
+  }
   std::vector<cv::Point2f> raw;
-  cv::projectPoints(std::vector<cv::Point3f>{cv::Point3f(ray[0], ray[1], ray[2])}, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
-                    cv::Mat(r.K), cv::Mat(r.D), raw);
-  const double row_offset = std::isfinite(raw[0].y) ? raw[0].y - centre.y : 0.0;
-  return compareStereoOrder(left, right, roi, d_lo, d_hi, row_offset);
+  cv::projectPoints(rays, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(r.K), cv::Mat(r.D), raw);
+  const bool projected = std::isfinite(raw[0].x) && std::isfinite(raw[1].x) && std::isfinite(raw[0].y) && std::isfinite(raw[1].y);
+  if (!projected) return compareStereoOrder(left, right, roi, d_lo, d_hi, 0.0);
+  const int far_shift = static_cast<int>(std::floor(centre.x - raw[0].x)), near_shift = static_cast<int>(std::ceil(centre.x - raw[1].x));
+  return compareStereoOrder(left, right, roi, far_shift, near_shift, 0.5 * (raw[0].y + raw[1].y) - centre.y);
 }
 
 std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {

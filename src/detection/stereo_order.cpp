@@ -12,8 +12,8 @@ namespace {
 
 /// The patch is compared at most this many pixels across (its scale also sets the search's).
 constexpr double kMaxPatchPx = 64.0;
-/// Rows searched above and below the expected one, at the compared scale (the scale is at most 1/2; the expected
-/// row comes from the calibration at the workspace's middle).
+/// Rows searched beyond the expected ones, at the compared scale (the scale is at most 1/2; the expected rows come
+/// from the calibration); columns: one compared pixel beyond the expected shifts.
 constexpr int kRowSlackPx = 3;
 /// An object looks swapped when its backward match is this good and better than every forward one by kSwapMargin.
 /// Chosen on the validation seeds 60000-60299 and the same pairs swapped (docs/reliability.md, "A pair in the wrong
@@ -39,34 +39,36 @@ bool pairLooksSwapped(const std::vector<ObjectOrderEvidence>& objects) {
   return swapped > 0 && swapped >= silhouettes && 2 * swapped >= objects.size();
 }
 
-StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_disparity,
-                               int max_disparity, double row_offset_px) {
+StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_shift,
+                               int max_shift, double row_offset_px) {
   const cv::Rect frame(cv::Point(), left.size());
   if (right.size() != left.size()) throw std::invalid_argument("compareStereoOrder: the frames differ in size");
   if (roi.empty() || (roi & frame) != roi) throw std::invalid_argument("compareStereoOrder: roi outside the frame");
   if (!std::isfinite(row_offset_px)) throw std::invalid_argument("compareStereoOrder: row offset not finite");
   StereoOrder out;
-  const int d_lo = std::max(1, min_disparity), d_hi = std::max(d_lo, max_disparity);
+  const int lo = std::max(1, std::min(min_shift, frame.width)), hi = std::max(lo, std::min(max_shift, frame.width));
+  const int row_offset = static_cast<int>(std::lround(std::clamp(row_offset_px, -1.0 * frame.height, 1.0 * frame.height)));
   const double scale = std::min(0.5, kMaxPatchPx / std::max(roi.width, roi.height));
+  // A region too thin to keep 4 pixels across at this scale says nothing (and would resize to nothing).
+  if (cvRound(roi.width * scale) < 4 || cvRound(roi.height * scale) < 4) return out;
   auto grey = [scale](const RawFrame& f, const cv::Rect& r) {
     cv::Mat g;
     cv::resize(f.grey(r), g, cv::Size(), scale, scale, cv::INTER_AREA);
     return g;
   };
   const cv::Mat patch = grey(left, roi);
-  if (patch.cols < 4 || patch.rows < 4) return out;
   cv::Scalar mean, spread;
   cv::meanStdDev(patch, mean, spread);
   if (spread[0] < 1.0) return out;  // a flat patch matches anywhere alike
-  // The best match in the part of the right image where the object's view lies at disparities `sign` x
-  // [d_lo, d_hi], `sign` x row_offset_px rows lower (a swapped pair's right image is the left one's, so its rows
-  // are off the other way), +- the slack.
-  const int row_slack = static_cast<int>(std::ceil(kRowSlackPx / scale));
+  // The best match in the part of the right image where the object's view lies `sign` x [lo, hi] columns left of
+  // the patch and `sign` x row_offset rows lower (a swapped pair's right image is the left one's, so both are off
+  // the other way), +- the slack.
+  const int row_slack = static_cast<int>(std::ceil(kRowSlackPx / scale)), column_slack = static_cast<int>(std::ceil(1 / scale));
   auto best = [&](int sign) {
-    const int shift = static_cast<int>(std::lround(sign * row_offset_px));
-    const int x0 = sign > 0 ? roi.x - d_hi : roi.x + d_lo;
-    const cv::Rect band =
-        cv::Rect(x0, roi.y + shift - row_slack, d_hi - d_lo + roi.width, roi.height + 2 * row_slack) & frame;
+    const int x0 = sign > 0 ? roi.x - hi : roi.x + lo;
+    const cv::Rect band = cv::Rect(x0 - column_slack, roi.y + sign * row_offset - row_slack,
+                                   hi - lo + roi.width + 2 * column_slack, roi.height + 2 * row_slack) &
+                          frame;
     if (band.width < roi.width || band.height < roi.height) return -1.0;  // not in the image on this side
     const cv::Mat searched = grey(right, band);
     if (searched.cols < patch.cols || searched.rows < patch.rows) return -1.0;

@@ -316,17 +316,18 @@ class DetectorNodelet : public nodelet::Nodelet {
       return std::nullopt;
     }
     // A pair that looks swapped reports no object (Detector::detect). One now and then is a scene that fooled the
-    // check (1 of 500 randomised pairs): published, empty. Several in a row are a head wired the wrong way round:
-    // refused as bad input, with an ERROR naming it.
+    // check (1 of 500 randomised pairs): published, empty. Several with no pair of objects between them are a head
+    // wired the wrong way round: refused as bad input, with an ERROR naming it.
     if (out.result.looks_swapped) {
-      if (++swapped_in_a_row_ >= kSwappedPairsForError) {
-        badInput("left and right images look swapped: in " + std::to_string(swapped_in_a_row_.load()) +
-                 " pairs in a row most objects' right views lie right of their left ones (check the cameras' topics, "
-                 "serials or remappings)");
+      const int swapped = ++swapped_since_objects_;
+      if (swapped >= kSwappedPairsForError) {
+        badInput("left and right images look swapped: in " + std::to_string(swapped) + " pairs since the last with "
+                 "objects most objects' right views lie right of their left ones (check the cameras' topics, serials "
+                 "or remappings)");
         return std::nullopt;
       }
     } else if (!out.result.objects.empty()) {
-      swapped_in_a_row_ = 0;
+      swapped_since_objects_ = 0;
     }
     out.pair = std::move(pair);
     return out;
@@ -414,7 +415,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
   static constexpr double kErrorHoldS = 5.0;  ///< a bad pair keeps the diagnostic at ERROR this long
   static constexpr std::size_t kErrorKindsNamed = 4;  ///< distinct bad inputs named in the summary, then counted
-  static constexpr int kSwappedPairsForError = 3;  ///< pairs in a row that look swapped before they are refused
+  static constexpr int kSwappedPairsForError = 3;  ///< pairs that look swapped, none with objects between, to refuse
 
   // Configuration.
   DetectorConfig config_;
@@ -457,7 +458,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   ros::WallTimer diagnostics_timer_;
   std::atomic<long> received_{0}, processed_{0};
-  std::atomic<int> swapped_in_a_row_{0};  ///< pairs that looked swapped since the last with objects reported
+  std::atomic<int> swapped_since_objects_{0};  ///< pairs that looked swapped since the last with objects reported
   ros_glue::RecentProblems bad_inputs_{kErrorHoldS, kErrorKindsNamed};
   std::mutex stats_mutex_;
   ros::WallTime last_diagnosis_;

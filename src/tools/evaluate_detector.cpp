@@ -48,7 +48,9 @@ const char* kUsage =
     "    also when the shape features changed and the old model is refused); --without-check: every detection\n"
     "    the colour model passes from colour_model.check_from_confidence on, the config's check_file not read\n"
     "    (the records learn_checks learns from: each detection with its check features); --swapped: each pair\n"
-    "    given the wrong way round (the right image as the left): what a head wired swapped reports.\n"
+    "    given the wrong way round (the right image as the left): what a head wired swapped reports (its\n"
+    "    detections lie in the right image and are matched to the left one's truth: count them, found and false\n"
+    "    together; the pairs taken for swapped are counted at the end).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
     "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered).\n";

@@ -58,7 +58,7 @@ struct DetectionResult {
   /// few 3D points, wrong metric size for its colour...).
   std::vector<Rejection> rejected;
   /// The pair looks as if its left and right images came swapped (stereo_order.h, pairLooksSwapped): none of its
-  /// objects is reported, each is rejected as RejectionStage::kLeftRightSwapped.
+  /// objects is reported; those that would have been are rejected as RejectionStage::kLeftRightSwapped.
   bool looks_swapped = false;
   StageTimings timings;
 };

@@ -20,14 +20,15 @@ struct StereoOrder {
   bool looksSwapped() const;
 };
 
-/// Compares the left image's patch over `roi` (raw pixels) with the right image at disparities of either sign
-/// whose size is within [min_disparity, max_disparity] px (the workspace's far and near ends), on unrectified grey
-/// images scaled so that the patch is at most 64 px across. `row_offset_px`: how many raw rows lower the right
-/// image shows the object than the left one (from the calibration: cameras are never exactly aligned); a swapped
-/// pair shows it that many rows higher. Disparities the image cannot hold on one side are not compared there.
-/// @throw std::invalid_argument when the frames differ in size, `roi` is not inside them or the offset is not finite.
-StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_disparity,
-                               int max_disparity, double row_offset_px);
+/// Compares the left image's patch over `roi` (raw pixels) with the right image where an object's view lies in a
+/// pair in order, [min_shift, max_shift] raw columns left of the patch and `row_offset_px` raw rows lower (from the
+/// calibration at the workspace's far and near ends: cameras are never exactly aligned), and where it lies in a
+/// swapped pair, as far right and as far higher; on unrectified grey images scaled so that the patch is at most
+/// 64 px across. Shifts the image cannot hold on one side are not compared there (that side stays at -1), nor is a
+/// region too thin to keep 4 pixels across. @throw std::invalid_argument when the frames differ in size, `roi` is
+/// not inside them or the offset is not finite.
+StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_shift,
+                               int max_shift, double row_offset_px);
 
 /// What one measured object says about its pair's order.
 struct ObjectOrderEvidence {
@@ -37,8 +38,8 @@ struct ObjectOrderEvidence {
 
 /// A pair looks swapped when at least half of its measured objects (and at least one) look swapped, and no fewer
 /// of them than found their silhouette where it should be (in a swapped pair a silhouette is now and then found in
-/// the wrong place, on a neighbour). One object alone may look either way (a repeated pattern, a view cut by the
-/// border); most of a pair's objects that do make a pair in the wrong order.
+/// the wrong place, on a neighbour). A lone object that looks swapped decides its pair; on the validation seeds no
+/// pair in order had one (docs/reliability.md, "A pair in the wrong order").
 bool pairLooksSwapped(const std::vector<ObjectOrderEvidence>& objects);
 
 }  // namespace underwater_stereo
