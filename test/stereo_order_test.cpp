@@ -72,12 +72,12 @@ TEST(StereoOrder, APairLooksSwappedWhenHalfItsObjectsDoAndNoFewerFoundTheirSilho
   const ObjectOrderEvidence swapped{false, {0.2, 0.95}}, unsure{false, {0.5, 0.6}}, in_order{false, {0.9, 0.3}};
   ObjectOrderEvidence with_silhouette;
   with_silhouette.silhouette = true;
-  EXPECT_FALSE(pairLooksSwapped({}));
-  EXPECT_TRUE(pairLooksSwapped({swapped}));
-  EXPECT_TRUE(pairLooksSwapped({swapped, unsure}));
-  EXPECT_FALSE(pairLooksSwapped({swapped, unsure, in_order}));
-  EXPECT_FALSE(pairLooksSwapped({unsure}));
-  EXPECT_TRUE(pairLooksSwapped({swapped, with_silhouette}));
-  EXPECT_TRUE(pairLooksSwapped({swapped, swapped, with_silhouette}));
-  EXPECT_FALSE(pairLooksSwapped({swapped, with_silhouette, with_silhouette}));
+  EXPECT_FALSE(pairOrder({}).looksSwapped());
+  EXPECT_TRUE(pairOrder({swapped}).looksSwapped());
+  EXPECT_TRUE(pairOrder({swapped, unsure}).looksSwapped());
+  EXPECT_FALSE(pairOrder({swapped, unsure, in_order}).looksSwapped());
+  EXPECT_FALSE(pairOrder({unsure}).looksSwapped());
+  EXPECT_TRUE(pairOrder({swapped, with_silhouette}).looksSwapped());
+  EXPECT_TRUE(pairOrder({swapped, swapped, with_silhouette}).looksSwapped());
+  EXPECT_FALSE(pairOrder({swapped, with_silhouette, with_silhouette}).looksSwapped());
 }

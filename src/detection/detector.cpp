@@ -452,13 +452,12 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     const int k = order[i];
     found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k]);
   });
-  result.looks_swapped = pairLooksSwapped(evidence);
+  const PairOrder pair_order = pairOrder(evidence);
+  result.looks_swapped = pair_order.looksSwapped();
   if (result.looks_swapped) {
-    const auto swapped = std::count_if(evidence.begin(), evidence.end(), [](const auto& e) { return e.order.looksSwapped(); });
-    const auto silhouettes = std::count_if(evidence.begin(), evidence.end(), [](const auto& e) { return e.silhouette; });
-    const std::string reason = "the pair looks swapped: " + std::to_string(swapped) + " of " + std::to_string(n) +
-                               " objects' views lie right of their left ones in the right image, " +
-                               std::to_string(silhouettes) +
+    const std::string reason = "the pair looks swapped: " + std::to_string(pair_order.swapped) + " of " +
+                               std::to_string(n) + " objects' views lie right of their left ones in the right image, " +
+                               std::to_string(pair_order.silhouettes) +
                                " found their silhouette where it should be (left and right images the wrong way round?)";
     for (int k = 0; k < n; ++k) {
       if (!found[k]) continue;

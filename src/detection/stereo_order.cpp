@@ -27,16 +27,19 @@ bool StereoOrder::looksSwapped() const {
   return backward >= kMinSwappedCorrelation && backward > forward + kSwapMargin;
 }
 
-bool pairLooksSwapped(const std::vector<ObjectOrderEvidence>& objects) {
-  std::size_t swapped = 0, silhouettes = 0;
+bool PairOrder::looksSwapped() const { return swapped > 0 && swapped >= silhouettes && 2 * swapped >= objects; }
+
+PairOrder pairOrder(const std::vector<ObjectOrderEvidence>& objects) {
+  PairOrder out;
+  out.objects = objects.size();
   for (const ObjectOrderEvidence& o : objects) {
     if (o.silhouette) {
-      ++silhouettes;
+      ++out.silhouettes;
     } else if (o.order.looksSwapped()) {
-      ++swapped;
+      ++out.swapped;
     }
   }
-  return swapped > 0 && swapped >= silhouettes && 2 * swapped >= objects.size();
+  return out;
 }
 
 StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_shift,

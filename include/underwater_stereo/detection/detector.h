@@ -57,7 +57,7 @@ struct DetectionResult {
   /// Regions looked at and not reported, with why (learned colours: colour too uncertain; any source: too
   /// few 3D points, wrong metric size for its colour...).
   std::vector<Rejection> rejected;
-  /// The pair looks as if its left and right images came swapped (stereo_order.h, pairLooksSwapped): none of its
+  /// The pair looks as if its left and right images came swapped (stereo_order.h, PairOrder): none of its
   /// objects is reported; those that would have been are rejected as RejectionStage::kLeftRightSwapped.
   bool looks_swapped = false;
   StageTimings timings;

@@ -5,6 +5,7 @@
 // this check block matching would measure it at a confident, wrong range.
 #include <opencv2/core.hpp>
 
+#include <cstddef>
 #include <vector>
 
 #include "underwater_stereo/detection/raw_frame.h"
@@ -36,10 +37,18 @@ struct ObjectOrderEvidence {
   StereoOrder order;        ///< compared only where no silhouette was found
 };
 
-/// A pair looks swapped when at least half of its measured objects (and at least one) look swapped, and no fewer
-/// of them than found their silhouette where it should be (in a swapped pair a silhouette is now and then found in
-/// the wrong place, on a neighbour). A lone object that looks swapped decides its pair; on the validation seeds no
-/// pair in order had one (docs/reliability.md, "A pair in the wrong order").
-bool pairLooksSwapped(const std::vector<ObjectOrderEvidence>& objects);
+/// What a pair's measured objects say about its order.
+struct PairOrder {
+  std::size_t objects = 0;      ///< objects measured
+  std::size_t swapped = 0;      ///< of those without a silhouette, those that look swapped
+  std::size_t silhouettes = 0;  ///< those that found their silhouette where it should be
+  /// At least half of the objects (and at least one) look swapped, and no fewer of them than found their
+  /// silhouette (in a swapped pair a silhouette is now and then found in the wrong place, on a neighbour). A lone
+  /// object that looks swapped decides its pair; on the validation seeds no pair in order had one
+  /// (docs/reliability.md, "A pair in the wrong order").
+  bool looksSwapped() const;
+};
+
+PairOrder pairOrder(const std::vector<ObjectOrderEvidence>& objects);
 
 }  // namespace underwater_stereo
