@@ -43,7 +43,9 @@ bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
 
 /// The YAML keys of `section` read by hand, besides its tunables.
 const std::map<std::string, std::vector<std::string>> kOtherKeys = {
-    {"candidates", {"source", "threshold", "dark_objects"}}, {"shape", {"model_file"}}};
+    {"candidates", {"source", "threshold", "dark_objects"}},
+    {"colour_model", {"file", "check_file", "levels"}},
+    {"shape", {"model_file"}}};
 
 /// Reads the tunables of `section` (and, but at the top level, refuses keys that are neither one nor in
 /// kOtherKeys).
@@ -94,6 +96,25 @@ const std::vector<DetectorTunable>& detectorTunables() {
        "Share of a contour's pixels in a designated colour", UWS_REAL(candidates.min_colour_fraction)},
       {"candidates", "max_candidates", 1, 1000, nullptr, "The largest this many candidates are kept",
        UWS_INT(candidates.max_candidates)},
+      {"colour_model", "min_confidence", 0.01, 1, "min_confidence",
+       "Share of the colour model's trees that must vote for a colour (colours without their own min_confidence)",
+       UWS_REAL(learned.min_confidence)},
+      {"colour_model", "check_from_confidence", 0.01, 1, "check_from_confidence",
+       "With a check: share of the colour votes from which a region goes on to stereo and the check",
+       UWS_REAL(learned.check_from_confidence)},
+      {"colour_model", "check_min_confidence", 0.01, 1, "check_min_confidence",
+       "Share of the check's trees that must vote for an object after stereo", UWS_REAL(learned.check_min_confidence)},
+      {"colour_model", "max_overlap", 0, 1, nullptr,
+       "Proposals overlapping a more confident one this much (box and pixels) are the same object",
+       UWS_REAL(learned.max_overlap)},
+      {"colour_model", "background_scale", 0.005, 0.5, nullptr,
+       "The water colour: median over windows of about 5 / this pixels of the searched image",
+       UWS_REAL(learned.water.background_scale)},
+      {"colour_model", "water_object_level", 0, 1000, nullptr,
+       "Regions standing out from a first water estimate at this level are left out of it (0: off)",
+       UWS_REAL(learned.water.object_level)},
+      {"colour_model", "max_proposals", 1, 10000, nullptr, "Proposals per frame, the most salient kept",
+       UWS_INT(learned.proposals.max_proposals)},
       {"stereo", "min_depth_m", 0.1, 50, "min_depth_m", "Workspace: nearest depth searched [m]",
        UWS_REAL(stereo.min_depth_m)},
       {"stereo", "max_depth_m", 0.2, 100, "max_depth_m", "Workspace: farthest depth searched [m]",
@@ -228,18 +249,10 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
     f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, "
            "max_proposals, check_file, check_min_confidence, check_from_confidence}");
   } else if (m) {
-    f.onlyKeys(m, "colour_model.",
-               {"file", "min_confidence", "max_overlap", "background_scale", "water_object_level", "levels", "max_proposals",
-                "check_file", "check_min_confidence", "check_from_confidence"});
     LearnedColourConfig& l = c.learned;
+    readTunables(f, m, "colour_model", c);
     f.optional(m, "file", "colour_model.", l.file);
-    f.optional(m, "min_confidence", "colour_model.", l.min_confidence);
     f.optional(m, "check_file", "colour_model.", l.check_file);
-    f.optional(m, "check_min_confidence", "colour_model.", l.check_min_confidence);
-    f.optional(m, "check_from_confidence", "colour_model.", l.check_from_confidence);
-    f.optional(m, "max_overlap", "colour_model.", l.max_overlap);
-    f.optional(m, "background_scale", "colour_model.", l.water.background_scale);
-    f.optional(m, "water_object_level", "colour_model.", l.water.object_level);
     if (const YAML::Node levels = m["levels"]) {
       l.proposals.levels.clear();
       for (std::size_t i = 0; levels.IsSequence() && i < levels.size(); ++i) {
@@ -251,7 +264,6 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
       }
       if (!levels.IsSequence()) f.fail("colour_model.levels: expected a list of saliency levels");
     }
-    f.optional(m, "max_proposals", "colour_model.", l.proposals.max_proposals);
     if (!l.file.empty()) {
       if (l.file.front() != '/' && !base_dir.empty()) l.file = base_dir + "/" + l.file;
       try {

@@ -63,8 +63,8 @@ struct DetectorTunable {
   void set(DetectorConfig& c, double value) const;
 };
 
-/// Every tunable number, section by section (the colour lists, mask and colour_model sections, and the
-/// non-numeric keys, are read by hand).
+/// Every tunable number, section by section (the colour lists, the mask section, colour_model.levels and the
+/// non-numeric keys are read by hand).
 const std::vector<DetectorTunable>& detectorTunables();
 
 /// Parses the detector configuration (keys as in config/detector.yaml; missing keys keep their defaults).
