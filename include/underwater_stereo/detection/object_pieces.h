@@ -28,7 +28,7 @@ bool mayBePiecesOfOneObject(const Candidate& a, const Candidate& b);
 std::vector<std::vector<int>> piecesOfOneObject(const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m,
                                                 const std::function<bool(int, int)>& may_join);
 
-/// The region `pieces` make together (all of one colour, full-resolution masks, inside `frame`): their masks
+/// The region `pieces` make together (full-resolution masks, inside `frame`): their masks
 /// joined, the outer contour of that union (the largest part where it is not connected) and its outline, their
 /// summed area and area-weighted mean colour; the face contrast of the largest piece; the colour, colour
 /// confidence and learned saliency cut of the most confident one. @throw std::invalid_argument when `pieces` is
