@@ -17,46 +17,28 @@ std::vector<Eigen::Vector3f> patch(float x0, float z, float side) {
   return p;
 }
 
-/// may_join for detections of these colours: of one colour only.
-std::function<bool(int, int)> sameColour(const std::vector<int>& colours) {
-  return [colours](int i, int j) { return colours.at(i) == colours.at(j); };
-}
-
-TEST(ObjectPieces, JoinsTouchingClustersThatMayBePiecesOnly) {
+TEST(ObjectPieces, JoinsTouchingClustersOfOneColourOnly) {
   // Pieces 0 and 1 of one red object 5 cm apart; 2 red 1 m further; 3 green touching 1; 4 red touching 0.
   const std::vector<std::vector<Eigen::Vector3f>> clusters{patch(0, 1, 0.2f), patch(0.25f, 1, 0.2f), patch(0, 2, 0.2f),
                                                            patch(0.46f, 1, 0.2f), patch(-0.25f, 1, 0.2f)};
-  const auto colours = sameColour({0, 0, 0, 1, 0});
-  EXPECT_EQ(piecesOfOneObject(clusters, 0.06, colours), (std::vector<std::vector<int>>{{0, 1, 4}}));
+  const std::vector<int> colours{0, 0, 0, 1, 0};
+  EXPECT_EQ(piecesOfOneObject(colours, clusters, 0.06), (std::vector<std::vector<int>>{{0, 1, 4}}));
   // Narrower than the gaps: nothing joined.
-  EXPECT_TRUE(piecesOfOneObject(clusters, 0.04, colours).empty());
+  EXPECT_TRUE(piecesOfOneObject(colours, clusters, 0.04).empty());
   // Joined through a member: 4 touches 0, 0 touches 1.
-  EXPECT_EQ(piecesOfOneObject({clusters[4], clusters[1], clusters[0]}, 0.06, sameColour({0, 0, 0})),
+  EXPECT_EQ(piecesOfOneObject({0, 0, 0}, {clusters[4], clusters[1], clusters[0]}, 0.06),
             (std::vector<std::vector<int>>{{0, 1, 2}}));
-  // The green piece too, where it may be one (its box overlapping the red one's).
-  const auto also_3_with_1 = [](int i, int j) { return (i == 1 && j == 3) || (i != 3 && j != 3); };
-  EXPECT_EQ(piecesOfOneObject(clusters, 0.06, also_3_with_1), (std::vector<std::vector<int>>{{0, 1, 3, 4}}));
-}
-
-TEST(ObjectPieces, PiecesOfAnotherColourMayBeOneObjectWhereTheirBoxesOverlap) {
-  Candidate red, orange;
-  red.colour_index = 0;
-  red.roi = cv::Rect(100, 100, 100, 100);
-  orange.colour_index = 1;
-  orange.roi = cv::Rect(150, 100, 100, 40);  // half of it inside red's box: 0.5 of the smaller
-  EXPECT_TRUE(mayBePiecesOfOneObject(red, orange));
-  orange.roi.x = 190;                        // a tenth
-  EXPECT_FALSE(mayBePiecesOfOneObject(red, orange));
-  orange.colour_index = 0;                   // one colour: the clusters alone decide
-  orange.roi.x = 1000;
-  EXPECT_TRUE(mayBePiecesOfOneObject(red, orange));
 }
 
 TEST(ObjectPieces, RefusesBadInput) {
-  const auto any = [](int, int) { return true; };
-  EXPECT_THROW(piecesOfOneObject({patch(0, 1, 0.1f)}, 0.0, any), std::invalid_argument);
-  EXPECT_TRUE(piecesOfOneObject({{}, patch(0, 1, 0.1f)}, 0.1, any).empty());
+  EXPECT_THROW(piecesOfOneObject({0}, {}, 0.1), std::invalid_argument);
+  EXPECT_THROW(piecesOfOneObject({0}, {patch(0, 1, 0.1f)}, 0.0), std::invalid_argument);
+  EXPECT_TRUE(piecesOfOneObject({0, 0}, {{}, patch(0, 1, 0.1f)}, 0.1).empty());
   EXPECT_THROW(joinedCandidate({}, cv::Size(100, 100)), std::invalid_argument);
+  Candidate a, b;
+  a.colour_index = 0;
+  b.colour_index = 1;
+  EXPECT_THROW(joinedCandidate({&a, &b}, cv::Size(100, 100)), std::invalid_argument);
 }
 
 Candidate disc(const cv::Point& centre, int radius, double fraction, const cv::Scalar& bgr) {
@@ -87,11 +69,10 @@ TEST(ObjectPieces, JoinedRegionIsTheUnionOfThePieces) {
   top.mean_bgr = cv::Scalar(0, 0, 200);
   bottom.mean_bgr = cv::Scalar(0, 0, 100);
   top.face_contrast = 3;
-  top.colour_index = 1;  // the lit half read another colour
   bottom.face_contrast = 30;
   bottom.area_px = top.area_px + 1;  // the larger piece
   const Candidate joined = joinedCandidate({&bottom, &top}, cv::Size(640, 480));
-  EXPECT_EQ(joined.colour_index, 1);  // the most confident piece's
+  EXPECT_EQ(joined.colour_index, 2);
   EXPECT_EQ(joined.roi, whole.roi);
   EXPECT_EQ(cv::countNonZero(joined.mask), cv::countNonZero(top.mask) + cv::countNonZero(bottom.mask));
   EXPECT_DOUBLE_EQ(joined.area_px, top.area_px + bottom.area_px);

@@ -163,9 +163,8 @@ void addObjectStages(StageTimings& into, const StageTimings& t) {
   into.fit_ms += t.fit_ms;
 }
 
-/// Pieces of one object (a near object split by a highlight or a shading band into detections whose 3D clusters
-/// nearly touch, of one colour or with overlapping boxes: mayBePiecesOfOneObject) are measured again as the one
-/// region they make together. "Nearly": within
+/// Pieces of one object (a near object split by a highlight or a shading band into detections of one colour
+/// whose 3D clusters nearly touch) are measured again as the one region they make together. "Nearly": within
 /// kPieceGapInEps cluster radii (eps_m), chosen on the validation seeds 60000-60029 (evaluate_detector --random
 /// 30): false detections per pair 0.400 without joining, 0.367 at 1 and 2 eps, 0.300 at 4 and 8 eps, recall
 /// 63.6 % throughout; the band cut out of a near object leaves a gap wider than one eps.
@@ -178,15 +177,15 @@ template <typename MeasureOne>
 void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optional<Detection>>& found,
                 std::vector<Rejection>& why, std::vector<StageTimings>& times, MeasureOne&& measureOne, const cv::Size& frame,
                 double gap_m) {
-  std::vector<int> index;
+  std::vector<int> index, colours;
   std::vector<std::vector<Eigen::Vector3f>> clusters;
   for (int k = 0; k < static_cast<int>(found.size()); ++k) {
     if (!found[k]) continue;
     index.push_back(k);
+    colours.push_back(candidates[k].colour_index);
     clusters.push_back(found[k]->points);
   }
-  const auto may_join = [&](int i, int j) { return mayBePiecesOfOneObject(candidates[index[i]], candidates[index[j]]); };
-  for (const std::vector<int>& group : piecesOfOneObject(clusters, gap_m, may_join)) {
+  for (const std::vector<int>& group : piecesOfOneObject(colours, clusters, gap_m)) {
     std::vector<const Candidate*> pieces;
     for (int g : group) pieces.push_back(&candidates[index[g]]);
     const int first = index[group.front()];

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/object_pieces.h"
 
-#include "underwater_stereo/detection/learned_candidates.h"
-
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -75,12 +73,9 @@ int root(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-bool mayBePiecesOfOneObject(const Candidate& a, const Candidate& b) {
-  return a.colour_index == b.colour_index || overlapOfSmaller(a.roi, b.roi) >= kPieceBoxOverlap;
-}
-
-std::vector<std::vector<int>> piecesOfOneObject(const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m,
-                                                const std::function<bool(int, int)>& may_join) {
+std::vector<std::vector<int>> piecesOfOneObject(const std::vector<int>& colours,
+                                                const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m) {
+  if (colours.size() != clusters.size()) throw std::invalid_argument("piecesOfOneObject: one colour per cluster needed");
   if (!(gap_m > 0)) throw std::invalid_argument("piecesOfOneObject: gap_m must be > 0");
   const int n = static_cast<int>(clusters.size());
   std::vector<Box> boxes;
@@ -89,7 +84,7 @@ std::vector<std::vector<int>> piecesOfOneObject(const std::vector<std::vector<Ei
   std::iota(parent.begin(), parent.end(), 0);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      if (root(parent, i) == root(parent, j) || !may_join(i, j)) continue;
+      if (colours[i] != colours[j] || root(parent, i) == root(parent, j)) continue;
       if (touching(clusters[i], boxes[i], clusters[j], boxes[j], static_cast<float>(gap_m))) {
         parent[root(parent, j)] = root(parent, i);
       }
@@ -113,6 +108,7 @@ Candidate joinedCandidate(const std::vector<const Candidate*>& pieces, const cv:
   cv::Scalar colour_sum;
   double area = 0;
   for (const Candidate* p : pieces) {
+    if (p->colour_index != best->colour_index) throw std::invalid_argument("joinedCandidate: pieces of different colours");
     roi |= p->roi;
     if (p->colour_fraction > best->colour_fraction) best = p;
     if (p->area_px > largest_piece->area_px) largest_piece = p;
