@@ -125,7 +125,7 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   EXPECT_NE(not_learned.find("candidates.source is not learned"), std::string::npos) << not_learned;
   const std::string bad_share = refusalOf(head + "colour_model: {file: " + model + ", check_file: check.yml.gz, "
                                                  "check_min_confidence: 0}");
-  EXPECT_NE(bad_share.find("colour_model.check_min_confidence must be in (0, 1]"), std::string::npos) << bad_share;
+  EXPECT_NE(bad_share.find("colour_model.check_min_confidence must be in [0.01, 1]"), std::string::npos) << bad_share;
   // A check learnt over another colour model's colours reads other votes: refused by its feature names.
   const std::vector<std::string> others{"red", "green"};
   const cv::Mat other_row(1, static_cast<int>(checkFeatureNames(others).size()), CV_32F, cv::Scalar(0));

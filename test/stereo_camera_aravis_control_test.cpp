@@ -140,6 +140,7 @@ TEST(StereoCameraAravisControl, MasterSlaveReconfigureMetadataAndOrder) {
   EXPECT_NEAR(r0 / l0, 1.0, 0.05) << "left and right images equally bright within 5 %";
   // From here on nothing may reopen a camera (one may have been reopened while the fakes were coming up).
   EXPECT_TRUE(waitFor([&] { return !value(rx.diagnostic("right camera"), "outages").empty(); }, 5.0));
+  const ros::Time steady = ros::Time::now();  // from here on every left image has its right one
   const std::string outages[2] = {value(rx.diagnostic("left camera"), "outages"),
                                   value(rx.diagnostic("right camera"), "outages")};
 
@@ -225,16 +226,19 @@ TEST(StereoCameraAravisControl, MasterSlaveReconfigureMetadataAndOrder) {
   spinner.stop();
   std::lock_guard<std::mutex> lock(rx.mutex);
   // The spinner stops at any moment: the last frame's right metadata may still be on its way, so only the frames
-  // up to the last one both sides' metadata reached are counted. A right image is expected for the pairs only:
-  // while a camera is reopened as the fakes come up, the other one's images come alone.
+  // up to the last one both sides' metadata reached are counted. Right metadata is expected for the pairs: while a
+  // camera is reopened as the fakes come up, the other one's images come alone (not once they are steady).
   ASSERT_FALSE(rx.left_meta.empty() || rx.right_meta.empty());
   const ros::Time last = std::min(rx.left_meta.rbegin()->first, rx.right_meta.rbegin()->first);
-  int pairs = 0, matched = 0, exposure_equal = 0, left_missing = 0, right_missing = 0;
+  int pairs = 0, matched = 0, exposure_equal = 0, left_missing = 0, right_missing = 0, alone_while_steady = 0;
   for (auto it = rx.left.begin(); it != rx.left.upper_bound(last); ++it) {
     const auto& [stamp, image] = *it;
     const auto meta = rx.left_meta.find(stamp);
     left_missing += meta == rx.left_meta.end();
-    if (rx.right.count(stamp) == 0) continue;
+    if (rx.right.count(stamp) == 0) {
+      alone_while_steady += stamp >= steady;
+      continue;
+    }
     ++pairs;
     const auto right_meta = rx.right_meta.find(stamp);
     right_missing += right_meta == rx.right_meta.end();
@@ -252,6 +256,7 @@ TEST(StereoCameraAravisControl, MasterSlaveReconfigureMetadataAndOrder) {
             << matched << " with metadata on both sides, " << exposure_equal
             << " pairs with equal exposure in their metadata" << std::endl;
   EXPECT_GE(pairs, 50) << "pairs throughout the test";
+  EXPECT_LE(alone_while_steady, 2) << "left images without their right one once no camera may be reopened";
   EXPECT_LE(left_missing, 2) << "left images without their metadata (queues may drop one)";
   EXPECT_LE(right_missing, 2) << "pairs without the right image's metadata (queues may drop one)";
   EXPECT_GE(exposure_equal, matched - 6) << "left and right metadata disagree beyond the few changes";

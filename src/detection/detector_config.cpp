@@ -97,7 +97,7 @@ const std::vector<DetectorTunable>& detectorTunables() {
       {"candidates", "max_candidates", 1, 1000, nullptr, "The largest this many candidates are kept",
        UWS_INT(candidates.max_candidates)},
       {"colour_model", "min_confidence", 0.01, 1, "min_confidence",
-       "Share of the colour model's trees that must vote for a colour (colours without their own min_confidence)",
+       "Share of the colour model's trees that must vote for a colour (colours without their own; with a check_file in 2D only)",
        UWS_REAL(learned.min_confidence)},
       {"colour_model", "check_from_confidence", 0.01, 1, "check_from_confidence",
        "With a check: share of the colour votes from which a region goes on to stereo and the check",

@@ -121,13 +121,14 @@ bool sameRegion(const cv::Rect& a, const cv::Mat& a_mask, const cv::Rect& b, con
 
 std::vector<std::string> LearnedColourConfig::validate() const {
   std::vector<std::string> p;
-  if (!(min_confidence > 0 && min_confidence <= 1)) p.push_back("colour_model.min_confidence must be in (0, 1]");
+  // The shares' ranges are detectorTunables()' (a share under 0.01 is not one tree in a hundred).
+  if (!(min_confidence >= 0.01 && min_confidence <= 1)) p.push_back("colour_model.min_confidence must be in [0.01, 1]");
   if (!(max_overlap >= 0 && max_overlap <= 1)) p.push_back("colour_model.max_overlap must be in [0, 1]");
-  if (!(check_min_confidence > 0 && check_min_confidence <= 1)) {
-    p.push_back("colour_model.check_min_confidence must be in (0, 1]");
+  if (!(check_min_confidence >= 0.01 && check_min_confidence <= 1)) {
+    p.push_back("colour_model.check_min_confidence must be in [0.01, 1]");
   }
-  if (!(check_from_confidence > 0 && check_from_confidence <= 1)) {
-    p.push_back("colour_model.check_from_confidence must be in (0, 1]");
+  if (!(check_from_confidence >= 0.01 && check_from_confidence <= 1)) {
+    p.push_back("colour_model.check_from_confidence must be in [0.01, 1]");
   }
   for (const auto& s : water.validate()) p.push_back(asYamlKey(s));
   for (const auto& s : proposals.validate()) p.push_back(asYamlKey(s));

@@ -50,7 +50,9 @@ struct DetectorConfig {
 struct DetectorTunable {
   const char* section;      ///< YAML section ("" at the top level)
   const char* key;          ///< YAML key in that section
-  double min, max;          ///< accepted values, both ends included (the component's own validate() agrees)
+  double min, max;          ///< accepted values, both ends included (the component's own validate() agrees; the
+                            ///< colour_model rows are checked whatever candidates.source, their component's only
+                            ///< for the learnt source)
   const char* reconfigure;  ///< its name in cfg/DetectorTuning.cfg; nullptr when not tunable at run time
   const char* doc;          ///< one line: what it does, with its unit
   double* (*real)(DetectorConfig&);  ///< the field when it is a double (else nullptr)
