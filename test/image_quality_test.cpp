@@ -37,13 +37,16 @@ TEST(ImageQuality, OnePassGivesOpenCVsLumaMeanAndValueCounts) {
   }
 }
 
-TEST(ImageQuality, ThresholdsFollowThePaper) {
-  const QualityConfig config;
-  EXPECT_EQ(assessQuality(uniform(15, 15, 15), config).status, QualityStatus::kTooDark);
-  EXPECT_EQ(assessQuality(uniform(21, 21, 21), config).status, QualityStatus::kOk);
+TEST(ImageQuality, FramesAreSpoiledOutsideTheirGates) {
+  QualityConfig config;  // the defaults: dark under 10 (the paper's 20 lowered), bright over 200 (the paper's)
+  EXPECT_EQ(assessQuality(uniform(9, 9, 9), config).status, QualityStatus::kTooDark);
+  EXPECT_EQ(assessQuality(uniform(11, 11, 11), config).status, QualityStatus::kOk);
   EXPECT_EQ(assessQuality(uniform(210, 210, 210), config).status, QualityStatus::kTooBright);
   EXPECT_EQ(assessQuality(uniform(199, 199, 199), config).status, QualityStatus::kOk);
-  EXPECT_TRUE(assessQuality(uniform(15, 15, 15), config).spoiled());
+  EXPECT_TRUE(assessQuality(uniform(9, 9, 9), config).spoiled());
+  config.too_dark_below = 20.0;  // the paper's gate
+  EXPECT_EQ(assessQuality(uniform(15, 15, 15), config).status, QualityStatus::kTooDark);
+  EXPECT_EQ(assessQuality(uniform(21, 21, 21), config).status, QualityStatus::kOk);
   EXPECT_EQ(qualityStatusName(QualityStatus::kTooBright), "TOO_BRIGHT");
 }
 
