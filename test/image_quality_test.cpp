@@ -38,15 +38,19 @@ TEST(ImageQuality, OnePassGivesOpenCVsLumaMeanAndValueCounts) {
 }
 
 TEST(ImageQuality, FramesAreSpoiledOutsideTheirGates) {
-  QualityConfig config;  // the defaults: dark under 10 (the paper's 20 lowered), bright over 200 (the paper's)
+  QualityConfig config;  // the defaults: dark under 10, bright over 240 (the paper's 20 and 200 widened)
   EXPECT_EQ(assessQuality(uniform(9, 9, 9), config).status, QualityStatus::kTooDark);
   EXPECT_EQ(assessQuality(uniform(11, 11, 11), config).status, QualityStatus::kOk);
-  EXPECT_EQ(assessQuality(uniform(210, 210, 210), config).status, QualityStatus::kTooBright);
-  EXPECT_EQ(assessQuality(uniform(199, 199, 199), config).status, QualityStatus::kOk);
+  EXPECT_EQ(assessQuality(uniform(245, 245, 245), config).status, QualityStatus::kTooBright);
+  EXPECT_EQ(assessQuality(uniform(235, 235, 235), config).status, QualityStatus::kOk);
   EXPECT_TRUE(assessQuality(uniform(9, 9, 9), config).spoiled());
-  config.too_dark_below = 20.0;  // the paper's gate
+  EXPECT_TRUE(assessQuality(uniform(245, 245, 245), config).spoiled());
+  config.too_dark_below = 20.0;  // the paper's gates
+  config.too_bright_above = 200.0;
   EXPECT_EQ(assessQuality(uniform(15, 15, 15), config).status, QualityStatus::kTooDark);
   EXPECT_EQ(assessQuality(uniform(21, 21, 21), config).status, QualityStatus::kOk);
+  EXPECT_EQ(assessQuality(uniform(210, 210, 210), config).status, QualityStatus::kTooBright);
+  EXPECT_EQ(assessQuality(uniform(199, 199, 199), config).status, QualityStatus::kOk);
   EXPECT_EQ(qualityStatusName(QualityStatus::kTooBright), "TOO_BRIGHT");
 }
 
@@ -99,7 +103,7 @@ TEST(ImageQuality, GarbageInputThrows) {
 
 TEST(ImageQuality, InvalidConfigListsEveryProblem) {
   QualityConfig c;
-  c.too_dark_below = 220;
+  c.too_dark_below = 245;  // over too_bright_above (240)
   c.dark_pixel_value = 250;
   c.clahe_clip_limit = 0;
   c.clahe_tiles = 0;

@@ -12,9 +12,10 @@ namespace underwater_stereo {
 enum class QualityStatus { kOk = 0, kTooDark = 1, kTooBright = 2 };  ///< values match ImageQuality.msg
 
 struct QualityConfig {
-  double too_dark_below = 10.0;      ///< mean BT.601 luma (0-255) under which a frame is spoiled (paper: 20; the
-                                     ///< learnt search still finds a third of the objects at 10-18: docs/accuracy.md)
-  double too_bright_above = 200.0;   ///< mean luma over which a frame is spoiled (paper: 200)
+  /// Mean BT.601 luma (0-255) under which a frame is spoiled (paper: 20; the learnt search still finds a third to a
+  /// half of the objects at 10-18: docs/accuracy.md, "Dark and bright frames").
+  double too_dark_below = 10.0;
+  double too_bright_above = 240.0;   ///< mean luma over which a frame is spoiled (paper: 200; the same section)
   double enhance_below = 40.0;       ///< usable frames darker than this are contrast-normalised (CLAHE on V)
   int dark_pixel_value = 30;         ///< HSV V (0-255) under which a pixel counts as dark
   int bright_pixel_value = 240;      ///< HSV V over which a pixel counts as bright (saturated)
