@@ -26,6 +26,13 @@ sim::Scene twoBuoys() {
   return s;
 }
 
+/// The two buoys at the camera's shortest exposure: mean luma ~15, under the paper's gate (20), over the shipped one.
+sim::Scene twoBuoysInTheDark() {
+  sim::Scene dark = twoBuoys();
+  dark.light.exposure = 0.01;
+  return dark;
+}
+
 /// The same objects, in the same order, at the same place, from the same number of points.
 void expectSameObjects(const DetectionResult& got, const DetectionResult& expected, const std::string& what) {
   ASSERT_EQ(got.objects.size(), expected.objects.size()) << what;
@@ -170,13 +177,6 @@ TEST(Detector, ObjectThreadsChangeNothingButTheTime) {
   cv::setNumThreads(opencv_threads);
 }
 
-/// The two buoys at the camera's shortest exposure: mean luma ~15, under the paper's gate (20), over the shipped one.
-sim::Scene twoBuoysInTheDark() {
-  sim::Scene dark = twoBuoys();
-  dark.light.exposure = 0.01;
-  return dark;
-}
-
 TEST(Detector, DarkFrameOverTheGateIsSearched) {
   const sim::Renderer renderer(twoBuoysInTheDark());
   Detector detector(defaultConfig(), renderer.calibration());
@@ -259,7 +259,7 @@ TEST(Detector, NanOrMissingCalibrationIsRefused) {
   EXPECT_THROW(Detector(defaultConfig(), StereoCalibration{}), std::invalid_argument);
 }
 
-TEST(DetectorConfig, ShippedFileIsValidAndHasThePaperDefaults) {
+TEST(DetectorConfig, ShippedFileIsValidWithItsDefaults) {
   const DetectorConfig c = defaultConfig();
   // The paper's 20 and 200 widened (docs/accuracy.md, "Dark and bright frames").
   EXPECT_EQ(c.quality.too_dark_below, 10.0);

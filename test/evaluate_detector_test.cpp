@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // evaluate_detector's brightness sweep end to end: its options are checked before anything is rendered, and a sweep
-// over scenes ends with one row per level.
+// over scenes ends with one row per level that sums the scenes' own rows.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -22,6 +25,24 @@ fs::path logFile(const std::string& name) {
   return fs::temp_directory_path() / ("evaluate_detector_test_" + std::to_string(::getpid()) + "_" + name + ".log");
 }
 
+/// The cells of a Markdown table row ("| a | b | +1 false" -> {"a", "b"}: what follows the last bar is no cell).
+std::vector<std::string> cells(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream s(row.substr(0, row.rfind('|') == std::string::npos ? 0 : row.rfind('|')));
+  std::string cell;
+  std::getline(s, cell, '|');  // before the first bar
+  while (std::getline(s, cell, '|')) {
+    const std::size_t a = cell.find_first_not_of(' '), b = cell.find_last_not_of(' ');
+    out.push_back(a == std::string::npos ? "" : cell.substr(a, b - a + 1));
+  }
+  return out;
+}
+
+/// What a level's rows of the scenes' own tables say, summed.
+struct Counted {
+  int frames = 0, objects = 0, found = 0;
+};
+
 }  // namespace
 
 TEST(EvaluateDetector, BadLevelsOrScenesAreNamedAndNothingIsRendered) {
@@ -29,9 +50,13 @@ TEST(EvaluateDetector, BadLevelsOrScenesAreNamedAndNothingIsRendered) {
     std::string options, named;
   } cases[] = {{"--paper-brightness --levels 18,x", "'x' is not a mean luma"},
                {"--paper-brightness --levels 300", "'300' is not a mean luma"},
-               {"--paper-brightness --levels 18,", "is not a list of lumas"},
+               {"--paper-brightness --levels 0", "'0' is not a mean luma"},
+               {"--paper-brightness --levels 18,", "'18,' has an empty item"},
+               {"--paper-brightness --levels ,18", "',18' has an empty item"},
+               {"--paper-brightness --levels ''", "'' has an empty item"},
                {"--paper-brightness --scenes 0", "--scenes: '0'"},
-               {"--random 2 --levels 18", "go with --paper-brightness"}};
+               {"--random 2 --levels 18", "go with --paper-brightness"},
+               {"--random 2 --scenes 2", "go with --paper-brightness"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;
@@ -42,24 +67,62 @@ TEST(EvaluateDetector, BadLevelsOrScenesAreNamedAndNothingIsRendered) {
   }
 }
 
-// Two scenes at luma 18, under the paper's gate (20): the shipped configuration searches them (none spoiled).
+// Two scenes at luma 18 (under the paper's gate, 20, over the shipped one) and 33: a summary row per level, in the
+// order asked for, whose frames, objects and found ones are the sums of the scenes' rows that reached the level.
 TEST(EvaluateDetector, SweepOverScenesEndsWithARowPerLevel) {
   const fs::path log = logFile("sweep");
-  ASSERT_EQ(runTool(kEvaluate + " --paper-brightness --seed 1181 --scenes 2 --levels 18 --size 640x400", log), 0)
-      << readText(log);
+  const int status = runTool(kEvaluate + " --paper-brightness --seed 1181 --scenes 2 --levels 18,33 --size 640x400", log);
   const std::string text = readText(log);
+  fs::remove(log);
+  ASSERT_EQ(status, 0) << text;
   EXPECT_NE(text.find("Scene of seed 1181 "), std::string::npos) << text;
   EXPECT_NE(text.find("Scene of seed 1182 "), std::string::npos) << text;
   const std::size_t summary = text.find("Scenes of seeds 1181-1182");
   ASSERT_NE(summary, std::string::npos) << text;
-  const std::size_t row = text.find("| 18.0 | ", summary);
-  ASSERT_NE(row, std::string::npos) << text;
-  std::istringstream cells(text.substr(row + 9));
-  int frames = -1, not_reached = -1, spoiled = -1;
-  char bar = 0;
-  cells >> frames >> bar >> not_reached >> bar >> spoiled;
-  EXPECT_EQ(frames + not_reached, 2) << text;
-  EXPECT_GE(frames, 1) << text;
-  EXPECT_EQ(spoiled, 0) << text;
+  std::map<std::string, Counted> counted;  // by target level, from the scenes' tables
+  std::vector<std::vector<std::string>> summary_rows;
+  std::stringstream lines(text);
+  std::size_t at = 0;
+  for (std::string line; std::getline(lines, line); at += line.size() + 1) {
+    const std::vector<std::string> c = cells(line);
+    if (c.size() < 4 || (c[0] != "18.0" && c[0] != "33.0" && c[0] != "18" && c[0] != "33")) continue;
+    if (at > summary) {
+      summary_rows.push_back(c);
+      continue;
+    }
+    const double target = std::stod(c[0]), luma = std::stod(c[1]);
+    if (std::abs(luma - target) >= 1.0) continue;  // not reached: counted apart
+    Counted& n = counted[c[0] == "18.0" ? "18" : "33"];
+    ++n.frames;
+    for (std::size_t k = 4; k < c.size(); ++k) {
+      if (c[k].rfind("(not eligible", 0) == 0) continue;
+      ++n.objects;
+      n.found += c[k] != "missed";
+    }
+    EXPECT_EQ(c[3], "OK") << line;  // neither level is spoiled by the shipped gates
+  }
+  ASSERT_EQ(summary_rows.size(), 2U) << text;
+  EXPECT_EQ(summary_rows[0][0], "18");
+  EXPECT_EQ(summary_rows[1][0], "33");
+  for (const auto& row : summary_rows) {
+    ASSERT_EQ(row.size(), 8U) << text;
+    const Counted& n = counted[row[0]];
+    EXPECT_GE(n.frames, 1) << row[0];
+    EXPECT_EQ(std::stoi(row[1]), n.frames) << row[0];
+    EXPECT_EQ(std::stoi(row[1]) + std::stoi(row[2]), 2) << row[0];  // reached or not, once per scene
+    EXPECT_EQ(row[3], "0") << row[0];                                // spoiled
+    EXPECT_EQ(std::stoi(row[4]), n.objects) << row[0];
+    EXPECT_EQ(std::stoi(row[5]), n.found) << row[0];
+  }
+}
+
+// One scene asked for with --scenes still ends with its summary; without --scenes there is none.
+TEST(EvaluateDetector, ScenesOneStillSumsUp) {
+  const fs::path log = logFile("one");
+  ASSERT_EQ(runTool(kEvaluate + " --paper-brightness --seed 1181 --scenes 1 --levels 33 --size 640x400", log), 0)
+      << readText(log);
+  EXPECT_NE(readText(log).find("Scenes of seeds 1181-1181"), std::string::npos) << readText(log);
+  ASSERT_EQ(runTool(kEvaluate + " --paper-brightness --seed 1181 --levels 33 --size 640x400", log), 0) << readText(log);
+  EXPECT_EQ(readText(log).find("Scenes of seeds"), std::string::npos) << readText(log);
   fs::remove(log);
 }

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "brightness_sweep.h"
 #include "random_evaluation.h"
 #include "tool_helpers.h"
 #include <yaml-cpp/yaml.h>
@@ -37,7 +38,7 @@ const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
     "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check] [--swapped]\n"
-    "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--scenes N] [--levels L,L..]\n"
+    "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--scenes N] [--levels L,L,..]\n"
     "                         [--size WxH]\n"
     "  Scene files: renders frames 0..N-1 of each scene (default 10 at 2 Hz), detects, compares with ground truth.\n"
     "  --random N: pair i (0..N-1) is the scene sampled from seed S+i (default S = 1000), rendered once;\n"
@@ -53,8 +54,9 @@ const char* kUsage =
     "    detections lie in the right image and are matched to the left one's truth: count them, found and false\n"
     "    together; the pairs taken for swapped are counted at the end).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18);\n"
-    "    --levels: at these mean lumas instead (each in (0, 255)); --scenes N: the scenes of seeds S..S+N-1, each\n"
-    "    in its table, then recall and false detections per level over the frames that reached it (within 1).\n"
+    "    --levels L,L,..: at these mean lumas instead (each in (0, 255)); --scenes N: the scenes of seeds\n"
+    "    S..S+N-1, each in its table, then recall and false detections per level over the frames that reached it\n"
+    "    (within 1).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
     "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered).\n";
 
@@ -215,102 +217,6 @@ tools::PairRecord runPair(const sim::SceneSamplerConfig& sampler, const sim::Ren
   return record;
 }
 
-/// Mean luma of the paper's eight brightness levels (Kramar et al. 2023, Fig. 20/21).
-const std::vector<double> kPaperLevels = {242.8, 198.0, 155.0, 112.0, 80.0, 55.0, 33.0, 18.0};
-
-/// What the frames at one brightness level gave, over scenes.
-struct LevelTally {
-  int frames = 0, not_reached = 0, spoiled = 0, eligible = 0, found = 0, false_detections = 0;
-};
-
-/// The scene of `seed` at each of `levels`: the exposure is scaled until the left image's mean BT.601 luma (as the
-/// camera delivers it, noise included) is within 1 of the level; then one detection per level. Adds each level's
-/// frame to `tallies` (one per level), counted apart when its luma did not reach the level.
-void evaluateAtBrightness(const DetectorConfig& config, const sim::SceneSamplerConfig& sampler, std::uint64_t seed,
-                          const std::vector<double>& levels, std::vector<LevelTally>& tallies) {
-  const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
-  const sim::Renderer head(sampled.scene);
-  const Detector detector(config, head.calibration());
-  std::cout << "Scene of seed " << seed << " (turbidity " << std::fixed << std::setprecision(2) << sampled.turbidity
-            << ", water type " << sampled.water_type << ") at "
-            << (levels == kPaperLevels ? "the paper's brightness levels" : "the brightness levels asked for")
-            << "\n\n| target luma | luma | exposure | quality |";
-  for (const auto& o : sampled.scene.objects) std::cout << " " << o.name << " |";
-  std::cout << "\n|---|---|---|---|";
-  for (std::size_t i = 0; i < sampled.scene.objects.size(); ++i) std::cout << "---|";
-  std::cout << "\n";
-  for (std::size_t k = 0; k < levels.size(); ++k) {
-    const double level = levels[k];
-    sim::Scene scene = sampled.scene;
-    sim::autoExpose(scene, level, 4);
-    double lo = 0.0, hi = 1e9, luma = 0.0;
-    sim::RenderedPair pair;
-    cv::Mat bgr;
-    for (int iteration = 0; iteration < 10; ++iteration) {
-      pair = head.withScene(scene).render(0.0, 0);
-      bgr = RawFrame(pair.left, pixelLayoutOf(pair.encoding)).bgr();
-      luma = sim::meanLuma(bgr);
-      if (std::abs(luma - level) < 1.0) break;
-      double& bound = luma < level ? lo : hi;
-      bound = scene.light.exposure;
-      double next = scene.light.exposure * std::clamp(std::pow(level / std::max(luma, 1.0), scene.sensor.gamma), 0.1, 10.0);
-      if (!(next > lo && next < hi)) next = hi < 1e9 && lo > 0.0 ? std::sqrt(lo * hi) : next;
-      scene.light.exposure = std::clamp(next, 0.011, 99.0);
-    }
-    const DetectionResult result = detector.detect(RawFrame(pair.left, pixelLayoutOf(pair.encoding)),
-                                                   RawFrame(pair.right, pixelLayoutOf(pair.encoding)));
-    const tools::PairRecord record = tools::evaluatePair(sampled, pair, result, luma);
-    std::cout << "| " << std::setprecision(1) << level << " | " << luma << " | " << std::setprecision(3)
-              << scene.light.exposure << " | " << record.quality << " |";
-    for (const auto& o : record.objects) {
-      std::cout << " ";
-      if (!o.eligible) std::cout << "(not eligible: " << o.visible_pixels << " px, " << std::setprecision(1) << o.range_m << " m)";
-      else if (!o.found) std::cout << "missed";
-      else {
-        std::cout << o.detected_colour << " " << o.detected_shape << ", range err " << std::setprecision(1)
-                  << 100.0 * o.range_error << " %";
-      }
-      std::cout << " |";
-    }
-    std::cout << (record.false_detections.empty() ? "" : " +" + std::to_string(record.false_detections.size()) + " false")
-              << "\n";
-    LevelTally& t = tallies[k];
-    if (std::abs(luma - level) >= 1.0) {
-      ++t.not_reached;
-      continue;
-    }
-    ++t.frames;
-    t.spoiled += record.quality != "OK";
-    t.false_detections += static_cast<int>(record.false_detections.size());
-    for (const auto& o : record.objects) {
-      t.eligible += o.eligible;
-      t.found += o.eligible && o.found;
-    }
-  }
-}
-
-int evaluatePaperBrightness(const DetectorConfig& config, const sim::SceneSamplerConfig& sampler, std::uint64_t seed,
-                            int scenes, const std::vector<double>& levels) {
-  std::vector<LevelTally> tallies(levels.size());
-  for (int i = 0; i < scenes; ++i) {
-    if (i > 0) std::cout << "\n";
-    evaluateAtBrightness(config, sampler, seed + static_cast<std::uint64_t>(i), levels, tallies);
-  }
-  if (scenes == 1) return 0;
-  std::cout << "\nScenes of seeds " << seed << "-" << seed + static_cast<std::uint64_t>(scenes) - 1
-            << ", frames that reached their level (within 1 of its luma)\n\n"
-               "| target luma | frames | not reached | spoiled | objects | found | recall % | false/frame |\n"
-               "|---|---|---|---|---|---|---|---|\n";
-  for (std::size_t k = 0; k < levels.size(); ++k) {
-    const LevelTally& t = tallies[k];
-    std::cout << "| " << std::setprecision(1) << levels[k] << " | " << t.frames << " | " << t.not_reached << " | "
-              << t.spoiled << " | " << t.eligible << " | " << t.found << " | "
-              << (t.eligible > 0 ? 100.0 * t.found / t.eligible : NAN) << " | " << std::setprecision(2)
-              << (t.frames > 0 ? double(t.false_detections) / t.frames : NAN) << " |\n";
-  }
-  return 0;
-}
-
 int evaluateRandom(const DetectorConfig& config, const std::string& config_path, const sim::SceneSamplerConfig& sampler,
                    const RandomOptions& opt) {
   const auto started = std::chrono::steady_clock::now();
@@ -441,26 +347,12 @@ int main(int argc, char** argv) {
       else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
       else if (a == "--rate") {
         const std::string v = value();
-        char* end = nullptr;
-        rate = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0') throw std::invalid_argument("--rate: '" + v + "' is not a number");
+        if (!tools::parseNumber(v, rate)) throw std::invalid_argument("--rate: '" + v + "' is not a number");
       }
       else if (a == "--random") random.pairs = static_cast<int>(integer(1, 10000000));
       else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
       else if (a == "--scenes") paper_scenes = static_cast<int>(integer(1, 100000));
-      else if (a == "--levels") {
-        const std::string v = value();
-        std::stringstream list(v);
-        for (std::string item; std::getline(list, item, ',');) {
-          char* end = nullptr;
-          const double level = std::strtod(item.c_str(), &end);
-          if (item.empty() || *end != '\0' || !(level > 0.0 && level < 255.0)) {
-            throw std::invalid_argument("--levels: '" + item + "' is not a mean luma in (0, 255)");
-          }
-          levels.push_back(level);
-        }
-        if (levels.empty() || v.back() == ',') throw std::invalid_argument("--levels: '" + v + "' is not a list of lumas");
-      }
+      else if (a == "--levels") levels = tools::parseLevels(value());
       else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
       else if (a == "--json") random.json_path = value();
       else if (a == "--swapped") random.swapped = true;
@@ -525,8 +417,9 @@ int main(int argc, char** argv) {
                             sampler, random);
     }
     if (paper_brightness) {
-      return evaluatePaperBrightness(config, sampler, random.seed, std::max(paper_scenes, 1),
-                                     levels.empty() ? kPaperLevels : levels);
+      tools::sweepBrightness(std::cout, config, sampler, random.seed, std::max(paper_scenes, 1),
+                             levels.empty() ? tools::kPaperLevels : levels, paper_scenes > 0);
+      return 0;
     }
     return evaluateSceneFiles(config, scene_files, frames, rate);
   } catch (const std::exception& e) {

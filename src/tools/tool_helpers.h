@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <stdexcept>
@@ -13,6 +14,15 @@
 
 namespace underwater_stereo {
 namespace tools {
+
+/// `text` as a number into `out`: false (out untouched) unless the whole of it is one, leading blanks allowed.
+inline bool parseNumber(const std::string& text, double& out) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end == text.c_str() || *end != '\0') return false;
+  out = v;
+  return true;
+}
 
 /// The q-quantile (0..1, nearest rank) of `v`; NaN when empty.
 inline double percentile(std::vector<double> v, double q) {
