@@ -25,14 +25,6 @@ struct LevelTally {
   int frames = 0, not_reached = 0, spoiled = 0, eligible = 0, found = 0, false_detections = 0;
 };
 
-/// A share as a percentage or a rate with `digits` decimals, "-" when there is nothing to divide by.
-std::string ratio(double part, int whole, double scale, int digits) {
-  if (whole <= 0) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << scale * part / whole;
-  return s.str();
-}
-
 /// The scene of `seed` at each of `levels` into `out`, each level's frame added to `tallies` (one per level).
 void sweepScene(std::ostream& out, const DetectorConfig& config, const sim::SceneSamplerConfig& sampler,
                 std::uint64_t seed, const std::vector<double>& levels, std::vector<LevelTally>& tallies) {
@@ -130,8 +122,8 @@ void sweepBrightness(std::ostream& out, const DetectorConfig& config, const sim:
     std::ostringstream level;  // as given: 18, 242.8
     level << levels[k];
     out << "| " << level.str() << " | " << t.frames << " | " << t.not_reached << " | " << t.spoiled
-        << " | " << t.eligible << " | " << t.found << " | " << ratio(t.found, t.eligible, 100.0, 1) << " | "
-        << ratio(t.false_detections, t.frames, 1.0, 2) << " |\n";
+        << " | " << t.eligible << " | " << t.found << " | " << ratioCell(t.found, t.eligible, 100.0, 1) << " | "
+        << ratioCell(t.false_detections, t.frames, 1.0, 2) << " |\n";
   }
 }
 

@@ -71,12 +71,7 @@ struct Tally {
   }
 };
 
-std::string percent(int n, int of) {
-  if (of == 0) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(1) << 100.0 * n / of;
-  return s.str();
-}
+std::string percent(int n, int of) { return ratioCell(n, of, 100.0, 1); }
 
 std::string percentile100(const std::vector<double>& v, double q) {
   if (v.empty()) return "-";
@@ -86,14 +81,11 @@ std::string percentile100(const std::vector<double>& v, double q) {
 }
 
 void printRow(std::ostream& out, const std::string& group, const std::string& bin, const Tally& t) {
-  std::ostringstream fpf;
-  if (t.frames > 0) fpf << std::fixed << std::setprecision(3) << static_cast<double>(t.false_detections) / t.frames;
-  else fpf << "-";
   out << "| " << group << " | " << bin << " | " << (t.frames > 0 ? std::to_string(t.frames) : "-") << " | "
       << t.eligible << " | " << percent(t.found, t.eligible) << " | " << percent(t.colour_right, t.found) << " | "
       << percent(t.shape_right, t.shape_eligible) << " (" << t.shape_eligible << ") | "
       << percentile100(t.range_err, 0.5) << " | " << percentile100(t.range_err, 0.95) << " | "
-      << percentile100(t.position_err, 0.95) << " | " << fpf.str() << " |\n";
+      << percentile100(t.position_err, 0.95) << " | " << ratioCell(t.false_detections, t.frames, 1.0, 3) << " |\n";
 }
 
 /// Bins of a value by upper edges: "lo-hi" labels.

@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,6 +24,14 @@ inline bool parseNumber(const std::string& text, double& out) {
   if (text.empty() || end == text.c_str() || *end != '\0') return false;
   out = v;
   return true;
+}
+
+/// `part` / `whole` times `scale` (100: a percentage) with `digits` decimals, as a table cell; "-" when `whole` is 0.
+inline std::string ratioCell(double part, int whole, double scale, int digits) {
+  if (whole <= 0) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << scale * part / whole;
+  return s.str();
 }
 
 /// The q-quantile (0..1, nearest rank) of `v`; NaN when empty.
