@@ -194,7 +194,7 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
     return std::string("no error");
   };
   const std::string empty_box = writeTemp("empty.xml", head + "<xmin>10</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
-  EXPECT_NE(messageOf([&] { readVocLabels(empty_box); }).find(empty_box + ": object 0 (buoy_red): empty box"), std::string::npos);
+  EXPECT_NE(messageOf([&] { readVocLabels(empty_box); }).find(empty_box + ": object 0 (buoy_red): empty box [10, 5, 10, 9]"), std::string::npos);
   const std::string not_number = writeTemp("nan.xml", head + "<xmin>a</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
   EXPECT_NE(messageOf([&] { readVocLabels(not_number); }).find("<xmin> 'a' is not a number"), std::string::npos);
   const std::string unclosed = writeTemp("unclosed.xml", head + "<xmin>1</xmin>");

@@ -72,11 +72,12 @@ std::vector<LabelBox> readVocLabels(const std::string& path) {
     const tinyxml2::XMLElement* box = object->FirstChildElement("bndbox");  // a <part>'s box is the part's
     if (!box) throw std::invalid_argument(named + " has no <bndbox>");
     double v[4];
+    std::string written[4];  // as the file writes them, for messages
     const char* keys[4] = {"xmin", "ymin", "xmax", "ymax"};
     for (int k = 0; k < 4; ++k) {
       const tinyxml2::XMLElement* field = box->FirstChildElement(keys[k]);
       if (!field) throw std::invalid_argument(named + " has no <" + keys[k] + ">");
-      const std::string value = trimmed(field->GetText() ? field->GetText() : "");
+      const std::string& value = written[k] = trimmed(field->GetText() ? field->GetText() : "");
       std::size_t used = 0;
       try {
         v[k] = std::stod(value, &used);
@@ -92,8 +93,8 @@ std::vector<LabelBox> readVocLabels(const std::string& path) {
       }
     }
     if (!(v[2] > v[0] && v[3] > v[1])) {
-      throw std::invalid_argument(named + ": empty box [" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " +
-                                  std::to_string(v[2]) + ", " + std::to_string(v[3]) + "]");
+      throw std::invalid_argument(named + ": empty box [" + written[0] + ", " + written[1] + ", " + written[2] + ", " +
+                                  written[3] + "] (xmin, ymin, xmax, ymax: need xmax > xmin and ymax > ymin)");
     }
     const int x0 = static_cast<int>(std::floor(v[0])), y0 = static_cast<int>(std::floor(v[1]));
     label.box = cv::Rect(x0, y0, std::max(1, static_cast<int>(std::ceil(v[2])) - x0),
