@@ -136,13 +136,13 @@ void accumulate(Stats& s, const std::vector<sim::GroundTruthObject>& truth, cons
 }
 
 void printRow(const std::string& name, const Stats& s) {
-  std::cout << "| " << name << " | " << s.frames << " | " << s.eligible << " | " << std::fixed << std::setprecision(1)
-            << (s.eligible ? 100.0 * s.found / s.eligible : NAN) << " | " << std::setprecision(2)
-            << (s.frames ? double(s.false_detections) / s.frames : NAN) << " | " << std::setprecision(2)
-            << 100 * tools::percentile(s.range_err, 0.5) << " | " << 100 * tools::percentile(s.range_err, 0.95) << " | "
-            << 100 * tools::percentile(s.position_err, 0.95) << " | " << 100 * tools::percentile(s.size_err_near, 0.5) << " | "
-            << std::setprecision(1) << (s.shape_eligible ? 100.0 * s.shape_correct / s.shape_eligible : NAN) << " | "
-            << tools::percentile(s.ms, 0.5) << " |\n";
+  using tools::percentileCell;
+  using tools::ratioCell;
+  std::cout << "| " << name << " | " << s.frames << " | " << s.eligible << " | " << ratioCell(s.found, s.eligible, 100, 1)
+            << " | " << ratioCell(s.false_detections, s.frames, 1, 2) << " | " << percentileCell(s.range_err, 0.5, 100, 2)
+            << " | " << percentileCell(s.range_err, 0.95, 100, 2) << " | " << percentileCell(s.position_err, 0.95, 100, 2)
+            << " | " << percentileCell(s.size_err_near, 0.5, 100, 2) << " | "
+            << ratioCell(s.shape_correct, s.shape_eligible, 100, 1) << " | " << percentileCell(s.ms, 0.5, 1, 1) << " |\n";
 }
 
 void merge(Stats& into, const Stats& s) {

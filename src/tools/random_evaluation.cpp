@@ -73,12 +73,7 @@ struct Tally {
 
 std::string percent(int n, int of) { return ratioCell(n, of, 100.0, 1); }
 
-std::string percentile100(const std::vector<double>& v, double q) {
-  if (v.empty()) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(2) << 100.0 * percentile(v, q);
-  return s.str();
-}
+std::string percentile100(const std::vector<double>& v, double q) { return percentileCell(v, q, 100.0, 2); }
 
 void printRow(std::ostream& out, const std::string& group, const std::string& bin, const Tally& t) {
   out << "| " << group << " | " << bin << " | " << (t.frames > 0 ? std::to_string(t.frames) : "-") << " | "

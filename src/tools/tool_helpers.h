@@ -41,6 +41,14 @@ inline double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5))];
 }
 
+/// The q-quantile of `v` times `scale` as a table cell of `digits` decimals, "-" when `v` is empty.
+inline std::string percentileCell(const std::vector<double>& v, double q, double scale, int digits) {
+  if (v.empty()) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << scale * percentile(v, q);
+  return s.str();
+}
+
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
 /// @throw std::invalid_argument naming the file when it is not readable, holds no "pairs" list or was made with
 /// --swapped.
