@@ -26,12 +26,16 @@ inline bool parseNumber(const std::string& text, double& out) {
   return true;
 }
 
+/// `value` with `digits` decimals, as a table cell.
+inline std::string fixedCell(double value, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << value;
+  return s.str();
+}
+
 /// `part` / `whole` times `scale` (100: a percentage) with `digits` decimals, as a table cell; "-" when `whole` is 0.
 inline std::string ratioCell(double part, int whole, double scale, int digits) {
-  if (whole <= 0) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << scale * part / whole;
-  return s.str();
+  return whole <= 0 ? "-" : fixedCell(scale * part / whole, digits);
 }
 
 /// The q-quantile (0..1, nearest rank) of `v`; NaN when empty.
@@ -43,10 +47,7 @@ inline double percentile(std::vector<double> v, double q) {
 
 /// The q-quantile of `v` times `scale` as a table cell of `digits` decimals, "-" when `v` is empty.
 inline std::string percentileCell(const std::vector<double>& v, double q, double scale, int digits) {
-  if (v.empty()) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << scale * percentile(v, q);
-  return s.str();
+  return v.empty() ? "-" : fixedCell(scale * percentile(v, q), digits);
 }
 
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
