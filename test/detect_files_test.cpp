@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -22,9 +23,11 @@ struct ToolRun {
   std::vector<std::string> lines;
 };
 
-ToolRun run(const std::string& args) {
+/// detect_files with `args`: its exit status and its output's lines (stdout, and stderr too with `with_stderr`).
+ToolRun run(const std::string& args, bool with_stderr = false) {
   ToolRun r;
-  FILE* pipe = ::popen((std::string(UWS_DETECT_FILES) + " " + args + " 2>/dev/null").c_str(), "r");
+  FILE* pipe =
+      ::popen((std::string(UWS_DETECT_FILES) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null")).c_str(), "r");
   char buf[8192];
   while (pipe && std::fgets(buf, sizeof buf, pipe)) r.lines.emplace_back(buf);
   r.status = pipe ? WEXITSTATUS(::pclose(pipe)) : -1;
@@ -124,6 +127,16 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
                     path("right.yaml"));
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.lines.size(), pair_.ground_truth.size());
+  // A grey image is searched, and said to hold no colour.
+  cv::Mat grey;
+  cv::cvtColor(pair_.left, grey, cv::COLOR_BGR2GRAY);
+  cv::imwrite(path("grey.png"), grey);
+  const ToolRun g = run("--image " + path("grey.png"), true);
+  EXPECT_EQ(g.status, 0);
+  ASSERT_EQ(g.lines.size(), 2u);
+  EXPECT_EQ(g.lines[0], "detect_files: " + path("grey.png") +
+                            ": a grey image (its three channels equal): no colour can be named in it\n");
+  EXPECT_NE(g.lines[1].find("\"id\": null"), std::string::npos) << g.lines[1];
 }
 
 TEST_F(DetectFiles, ExplainListsWhatWasLookedAtAndNotReportedWithWhy) {

@@ -9,6 +9,7 @@
 
 #include <fstream>
 #include <functional>
+#include <limits>
 
 #include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detector.h"
@@ -96,6 +97,40 @@ TEST(ImageFile, IntactFilesAreReadAsImreadReadsThem) {
     const cv::Mat read = readImageFile(path);
     EXPECT_EQ(cv::norm(read, cv::imread(path, cv::IMREAD_COLOR), cv::NORM_INF), 0.0) << ext;
   }
+}
+
+/// `image` encoded as `ext` (any depth the format takes).
+std::string encodedImage(const std::string& ext, const cv::Mat& image) {
+  std::vector<uchar> bytes;
+  cv::imencode(ext, image, bytes);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
+  cv::Mat eight(48, 64, CV_8UC3);
+  cv::randu(eight, cv::Scalar::all(0), cv::Scalar::all(256));
+  cv::Mat sixteen, floating;
+  eight.convertTo(sixteen, CV_16U, 257.0);
+  eight.convertTo(floating, CV_32F, 1.0 / 255.0);
+  EXPECT_EQ(cv::norm(readImageFile(tempFile("sixteen.png", encodedImage(".png", sixteen))), eight, cv::NORM_INF), 0.0);
+  // OpenCV's own IMREAD_COLOR of a 0..1 float TIFF is not linear (a mid grey comes out far brighter); its TIFF
+  // writer stores three float channels as LogLuv, within about 1 %.
+  EXPECT_LE(cv::norm(readImageFile(tempFile("float.tiff", encodedImage(".tiff", floating))), eight, cv::NORM_INF), 5.0);
+  const cv::Mat over = readImageFile(tempFile("over.tiff", encodedImage(".tiff", floating * 4.0)));
+  // Over 1 (eight >= 64, with the LogLuv margin: 70) is white; under it (<= 58) is not.
+  EXPECT_EQ(cv::countNonZero((eight.reshape(1) >= 70) & (over.reshape(1) != 255)), 0);
+  EXPECT_EQ(cv::countNonZero((eight.reshape(1) <= 58) & (over.reshape(1) == 255)), 0);
+  cv::Mat with_nan(48, 64, CV_32F, cv::Scalar(0.5));  // one channel: stored as plain floats, NaN kept
+  with_nan.at<float>(3, 4) = std::numeric_limits<float>::quiet_NaN();
+  const std::string nan = tempFile("nan.tiff", encodedImage(".tiff", with_nan));
+  EXPECT_NE(messageOf([&] { readImageFile(nan); }).find(nan + ": a floating-point image with NaN or infinite pixels"),
+            std::string::npos);
+  cv::Mat grey(48, 64, CV_8UC1);
+  cv::randu(grey, 0, 256);
+  const cv::Mat read_grey = readImageFile(tempFile("grey.png", encodedImage(".png", grey)));
+  EXPECT_EQ(read_grey.type(), CV_8UC3);
+  EXPECT_TRUE(isGreyImage(read_grey));
+  EXPECT_FALSE(isGreyImage(eight));
 }
 
 TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The learning tools end to end: learn_colours on frames and VOC labels that render_scene wrote, learnt over the
 // default configuration, gives a configuration that loads wherever it was written; learn_checks learns from records
-// and refuses records it cannot learn from.
+// and refuses records it cannot learn from; a grey frame is refused.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
@@ -55,6 +57,26 @@ TEST(LearnColours, AConfigLearntOverTheDefaultLoadsFromAnotherFolder) {
                      std::string(UWS_SOURCE_DIR "/config/detector.yaml").size(), (dir / "moved.yaml").string());
   ASSERT_EQ(runTool(from_moved, dir / "learn_moved.log"), 0) << readText(dir / "learn_moved.log");
   EXPECT_TRUE(loadDetectorConfigFile((dir / "pool/pool.yaml").string()).learned.model);
+  fs::remove_all(dir);
+}
+
+TEST(LearnColours, AGreyFrameIsRefusedNamingIt) {
+  const fs::path dir = fs::temp_directory_path() / ("learn_colours_grey_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "images");
+  fs::create_directories(dir / "annotations");
+  cv::Mat grey(120, 160, CV_8UC1, cv::Scalar(90));
+  cv::circle(grey, {80, 60}, 20, cv::Scalar(160), -1);
+  cv::imwrite((dir / "images/frame.png").string(), grey);
+  std::ofstream(dir / "annotations/frame.xml")
+      << "<annotation><object><name>buoy_red</name><bndbox><xmin>60</xmin><ymin>40</ymin><xmax>100</xmax>"
+         "<ymax>80</ymax></bndbox></object></annotation>";
+  const std::string learn = std::string(UWS_LEARN_COLOURS) + " --images " + (dir / "images").string() +
+                            " --annotations " + (dir / "annotations").string() + " --out " + (dir / "out.yaml").string();
+  EXPECT_EQ(runTool(learn, dir / "learn.log"), 1);
+  EXPECT_NE(readText(dir / "learn.log").find("frame.png: a grey image (its three channels equal) cannot teach colours"),
+            std::string::npos)
+      << readText(dir / "learn.log");
+  EXPECT_FALSE(fs::exists(dir / "out.yaml"));
   fs::remove_all(dir);
 }
 

@@ -2,6 +2,7 @@
 #include "underwater_stereo/detection/image_file.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <csetjmp>
 #include <cstdio>
@@ -79,7 +80,40 @@ std::uint32_t bigEndian32(const unsigned char* p) {
   return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
 }
 
+/// `image` (as decoded: any depth, 1, 3 or 4 channels) as 8-bit BGR: grey repeated in three channels, alpha dropped,
+/// 16-bit scaled by 1/257 (65535 -> 255), floating point read as brightness 0..1 (clipped: a high-dynamic-range
+/// frame's highlights are white, as a camera sees them); anything else is refused naming `path`.
+cv::Mat asBgr8(const cv::Mat& image, const std::string& path) {
+  cv::Mat bgr;
+  switch (image.channels()) {
+    case 1: cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR); break;
+    case 3: bgr = image; break;
+    case 4: cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR); break;
+    default: throw std::invalid_argument(path + ": " + std::to_string(image.channels()) + " channels (1, 3 or 4 are read)");
+  }
+  cv::Mat out;
+  switch (bgr.depth()) {
+    case CV_8U: return bgr;
+    case CV_16U: bgr.convertTo(out, CV_8U, 1.0 / 257.0); return out;
+    case CV_32F:
+    case CV_64F:
+      if (!cv::checkRange(bgr)) throw std::invalid_argument(path + ": a floating-point image with NaN or infinite pixels");
+      bgr.convertTo(out, CV_8U, 255.0);  // saturating
+      return out;
+    default:
+      throw std::invalid_argument(path + ": pixels of OpenCV depth " + std::to_string(bgr.depth()) +
+                                  " (signed integers): only 8- or 16-bit unsigned or floating-point images are read");
+  }
+}
+
 }  // namespace
+
+bool isGreyImage(const cv::Mat& bgr) {
+  if (bgr.empty() || bgr.channels() != 3) return false;
+  cv::Mat channels[3];
+  cv::split(bgr, channels);
+  return cv::norm(channels[0], channels[1], cv::NORM_INF) == 0 && cv::norm(channels[1], channels[2], cv::NORM_INF) == 0;
+}
 
 cv::Mat readImageFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -115,14 +149,14 @@ cv::Mat readImageFile(const std::string& path) {
   }
   cv::Mat image;
   try {
-    image = cv::imdecode(bytes, cv::IMREAD_COLOR);
+    image = cv::imdecode(bytes, cv::IMREAD_ANYCOLOR | cv::IMREAD_ANYDEPTH);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(path + ": cannot decode the image (" + e.err + ")");
   }
   if (image.empty()) throw std::invalid_argument(path + ": not an image OpenCV can read, or corrupt");
   const std::string size_problem = imageSizeProblem(image.cols, image.rows);
   if (!size_problem.empty()) throw std::invalid_argument(path + ": " + size_problem);
-  return image;
+  return asBgr8(image, path);
 }
 
 }  // namespace underwater_stereo

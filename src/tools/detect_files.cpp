@@ -39,7 +39,8 @@ const char* kUsage =
     "it is done. Unreadable, truncated or corrupt images, and images whose size the detector cannot take\n"
     "(or that differs from the calibration's), are reported on stderr naming the file and skipped; the other\n"
     "frames are still reported and the exit status is then 1. Bad options, configuration or calibration:\n"
-    "exit 2, nothing processed. An unexpected internal error: exit 3.\n";
+    "exit 2, nothing processed. An unexpected internal error: exit 3. 16-bit images are read scaled to 8 bits,\n"
+    "floating-point ones (TIFF) as brightness 0..1; a grey image is searched and said on stderr to hold no colour.\n";
 
 struct Options {
   std::string config, left_info, right_info, list;
@@ -132,7 +133,12 @@ StereoCalibration readCalibrations(const std::string& left_path, const std::stri
 /// Reads a colour image; an empty Mat (and a message naming the file on stderr) when it cannot.
 cv::Mat readImage(const std::string& path) {
   try {
-    return readImageFile(path);
+    cv::Mat image = readImageFile(path);
+    if (isGreyImage(image)) {
+      std::cerr << "detect_files: " << path << ": a grey image (its three channels equal): no colour can be named in it"
+                << std::endl;
+    }
+    return image;
   } catch (const std::exception& e) {
     std::cerr << "detect_files: " << e.what() << ", skipped" << std::endl;
     return cv::Mat();

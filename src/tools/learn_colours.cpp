@@ -198,6 +198,9 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
       f.name = o.images[d] + "/" + name;
       try {
         f.image = readImageFile(f.name);  // strict: a truncated frame would teach its grey fill
+        if (isGreyImage(f.image)) {
+          throw std::invalid_argument(f.name + ": a grey image (its three channels equal) cannot teach colours");
+        }
       } catch (const std::invalid_argument& e) {
         problems.push_back(e.what());
         continue;
