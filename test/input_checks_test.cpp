@@ -36,12 +36,17 @@ std::string messageOf(F f) {
   return "(accepted)";
 }
 
-std::string encoded(const std::string& ext, cv::Size size = cv::Size(64, 48)) {
-  cv::Mat image(size, CV_8UC3);
-  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+/// `image` encoded as `ext` (any depth the format takes).
+std::string encodedImage(const std::string& ext, const cv::Mat& image) {
   std::vector<uchar> bytes;
   cv::imencode(ext, image, bytes);
   return std::string(bytes.begin(), bytes.end());
+}
+
+std::string encoded(const std::string& ext, cv::Size size = cv::Size(64, 48)) {
+  cv::Mat image(size, CV_8UC3);
+  cv::randu(image, cv::Scalar::all(0), cv::Scalar::all(255));
+  return encodedImage(ext, image);
 }
 
 const char* kGoodCalibration = R"(image_width: 640
@@ -97,13 +102,6 @@ TEST(ImageFile, IntactFilesAreReadAsImreadReadsThem) {
     const cv::Mat read = readImageFile(path);
     EXPECT_EQ(cv::norm(read, cv::imread(path, cv::IMREAD_COLOR), cv::NORM_INF), 0.0) << ext;
   }
-}
-
-/// `image` encoded as `ext` (any depth the format takes).
-std::string encodedImage(const std::string& ext, const cv::Mat& image) {
-  std::vector<uchar> bytes;
-  cv::imencode(ext, image, bytes);
-  return std::string(bytes.begin(), bytes.end());
 }
 
 TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {

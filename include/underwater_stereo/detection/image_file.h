@@ -12,7 +12,7 @@ namespace underwater_stereo {
 /// that OpenCV does not make: a JPEG must decode without any libjpeg warning (a truncated file, "premature end
 /// of data", corrupt entropy data) and a PNG must end in its IEND chunk; the size its header declares must
 /// lie in imageSizeProblem()'s range before anything is decoded. A 16-bit image is scaled by 1/257, a
-/// floating-point one (TIFF, EXR) read as brightness 0..1, clipped (OpenCV's own conversion of those is not linear).
+/// floating-point one (e.g. TIFF) read as brightness 0..1, clipped (OpenCV's own conversion of those is not linear).
 /// @throw std::invalid_argument naming `path` and what is wrong (cannot open, empty, truncated, corrupt,
 /// not an image format OpenCV reads, size out of range, floating point not finite, signed integers).
 cv::Mat readImageFile(const std::string& path);
