@@ -198,11 +198,12 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
       f.name = o.images[d] + "/" + name;
       try {
         f.image = readImageFile(f.name);  // strict: a truncated frame would teach its grey fill
-        if (isGreyImage(f.image)) {
-          throw std::invalid_argument(f.name + ": a grey image (its three channels equal) cannot teach colours");
-        }
       } catch (const std::invalid_argument& e) {
         problems.push_back(e.what());
+        continue;
+      }
+      if (isGreyImage(f.image)) {
+        problems.push_back(f.name + ": a grey image (its three channels equal) cannot teach colours");
         continue;
       }
       const std::string xml = o.annotations[d] + "/" + name.substr(0, name.find_last_of('.')) + ".xml";
