@@ -5,6 +5,7 @@
 #include <cv_bridge/cv_bridge.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -409,6 +410,53 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
       << "the valid pair after the bad ones was not processed";
   std::lock_guard<std::mutex> lock(listener.mutex);
   EXPECT_EQ(listener.objects[stamp]->objects.size(), 2U);
+}
+
+// Grey (mono8) pairs are valid input, but no designated colour can be named in them: processed, nothing found, and
+// the diagnostic WARNs saying why (not a silent "detecting"); colour pairs after them bring "detecting" back.
+TEST_F(HandFedDetector, BadInputOfMonoPairsWarnsThatNoColourCanBeFound) {
+  cv::Mat grey_left, grey_right;
+  cv::cvtColor(pair.left, grey_left, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(pair.right, grey_right, cv::COLOR_BGR2GRAY);
+  const sensor_msgs::Image l = *cv_bridge::CvImage(std_msgs::Header(), "mono8", grey_left).toImageMsg();
+  const sensor_msgs::Image r = *cv_bridge::CvImage(std_msgs::Header(), "mono8", grey_right).toImageMsg();
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    listener.diagnostics.clear();
+  }
+  ros::Time stamp(3000.0);
+  auto detectorSays = [&](unsigned char level, const std::string& text) {
+    return waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(listener.mutex);
+          return std::any_of(listener.diagnostics.begin(), listener.diagnostics.end(), [&](const auto& d) {
+            return d.level == level && d.message.find(text) != std::string::npos;
+          });
+        },
+        15.0);
+  };
+  pub.send(l, left_info, r, right_info, stamp);
+  ASSERT_TRUE(waitFor(
+      [&] {
+        std::lock_guard<std::mutex> lock(listener.mutex);
+        return listener.objects.count(stamp) > 0;
+      },
+      20.0))
+      << "the mono8 pair was not processed";
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    EXPECT_TRUE(listener.objects[stamp]->objects.empty());
+  }
+  EXPECT_TRUE(detectorSays(diagnostic_msgs::DiagnosticStatus::WARN, "mono8 images carry no colour"))
+      << "no WARN diagnostic saying that grey images carry no colour";
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    listener.diagnostics.clear();
+  }
+  stamp += ros::Duration(1.0);
+  pub.send(left, left_info, right, right_info, stamp);
+  EXPECT_TRUE(detectorSays(diagnostic_msgs::DiagnosticStatus::OK, "detecting"))
+      << "the diagnostic did not return to detecting after a colour pair";
 }
 
 // Exact sync (detector_exact_sync.test): a valid calibration that changes its distortion vector's length

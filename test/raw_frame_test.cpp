@@ -86,6 +86,9 @@ TEST(RawFrame, GreyAndBgrFramesPassThrough) {
   const RawFrame mono(grey);
   EXPECT_EQ(mono.layout(), PixelLayout::kMono);
   EXPECT_EQ(mono.bgr().channels(), 3);
+  EXPECT_FALSE(carriesColour(mono.layout()));
+  EXPECT_TRUE(carriesColour(bgr.layout()));
+  EXPECT_TRUE(carriesColour(PixelLayout::kBayerGbrg));
 }
 
 TEST(RawFrame, BadInputIsRefused) {

@@ -81,6 +81,8 @@ std::optional<PixelLayout> layoutOfEncoding(const std::string& encoding) {
   return std::nullopt;
 }
 
+bool carriesColour(PixelLayout layout) { return layout != PixelLayout::kMono; }
+
 PixelLayout pixelLayoutOf(const std::string& encoding) {
   if (const auto layout = layoutOfEncoding(encoding)) return *layout;
   throw std::invalid_argument("pixelLayoutOf: encoding '" + encoding +

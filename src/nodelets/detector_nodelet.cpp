@@ -36,6 +36,7 @@
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/ros_glue/compressed_image_publisher.h"
 #include "underwater_stereo/ros_glue/detector_reconfigure.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
@@ -354,6 +355,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     for (const Rejection& r : result.rejected) ++rejected_by_stage_[static_cast<int>(r.stage)];
     last_quality_ = result.quality;
+    last_without_colour_ = !carriesColour(done.input.left.layout());
     last_processing_ms_ = (ros::WallTime::now() - done.start).toSec() * 1000.0;
     max_processing_ms_ = std::max(max_processing_ms_, last_processing_ms_);
   }
@@ -388,6 +390,10 @@ class DetectorNodelet : public nodelet::Nodelet {
                        cv::format("%g", max_dropped_share_) + ")");
     } else if (received == 0) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "no stereo pairs received yet");
+    } else if (last_without_colour_) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "mono8 images carry no colour: no designated colour can be found in them (set the cameras to "
+                   "a Bayer pixel format, bgr8 or rgb8)");
     } else if (last_quality_.spoiled()) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames spoiled: " + qualityStatusName(last_quality_.status));
     } else {
@@ -464,6 +470,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   ros::WallTime last_diagnosis_;
   long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
+  bool last_without_colour_ = false;  ///< the last pair processed was grey
   std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
 };

@@ -19,6 +19,9 @@ std::optional<PixelLayout> layoutOfEncoding(const std::string& encoding);
 /// layoutOfEncoding(), for an encoding that must have one.
 /// @throw std::invalid_argument for any other encoding.
 PixelLayout pixelLayoutOf(const std::string& encoding);
+/// False for grey frames: no designated colour can be named in them (every colour model and the paper's
+/// grey_threshold source read colour), so nothing is found.
+bool carriesColour(PixelLayout layout);
 
 class RawFrame {
  public:
