@@ -46,7 +46,7 @@ struct Counted {
 
 }  // namespace
 
-TEST(EvaluateDetector, BadLevelsOrScenesAreNamedAndNothingIsRendered) {
+TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
   const struct {
     std::string options, named;
   } cases[] = {{"--paper-brightness --levels 18,x", "'x' is not a mean luma"},
@@ -56,8 +56,14 @@ TEST(EvaluateDetector, BadLevelsOrScenesAreNamedAndNothingIsRendered) {
                {"--paper-brightness --levels ,18", "',18' has an empty item"},
                {"--paper-brightness --levels ''", "'' has an empty item"},
                {"--paper-brightness --scenes 0", "--scenes: '0'"},
-               {"--random 2 --levels 18", "go with --paper-brightness"},
-               {"--random 2 --scenes 2", "go with --paper-brightness"}};
+               {"--random 2 --levels 18", "--levels goes with --paper-brightness, not with --random"},
+               {"--random 2 --scenes 2", "--scenes goes with --paper-brightness, not with --random"},
+               // An option of another mode is refused, not ignored.
+               {"--random 2 --frames 3", "--frames goes with scene files, not with --random"},
+               {"--paper-brightness --jobs 2", "--jobs goes with --random, not with --paper-brightness"},
+               {"--paper-brightness --verbose", "--verbose goes with scene files or --random, not with"},
+               {"scene.yaml --seed 3", "--seed goes with --random or --paper-brightness, not with scene files"},
+               {"scene.yaml --size 640x400", "--size goes with --random or --paper-brightness, not with scene"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;

@@ -285,6 +285,31 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
   return 0;
 }
 
+enum class Mode { kSceneFiles, kRandom, kPaperBrightness };
+
+std::string modeName(Mode m) {
+  switch (m) {
+    case Mode::kSceneFiles: return "scene files";
+    case Mode::kRandom: return "--random";
+    case Mode::kPaperBrightness: return "--paper-brightness";
+  }
+  return "";
+}
+
+/// The modes `option` goes with; none for an option of every mode.
+std::vector<Mode> modesOf(const std::string& option) {
+  using M = Mode;
+  static const std::map<std::string, std::vector<Mode>> kModes{
+      {"--frames", {M::kSceneFiles}},         {"--rate", {M::kSceneFiles}},
+      {"--verbose", {M::kSceneFiles, M::kRandom}},
+      {"--seed", {M::kRandom, M::kPaperBrightness}}, {"--size", {M::kRandom, M::kPaperBrightness}},
+      {"--jobs", {M::kRandom}},               {"--json", {M::kRandom}},
+      {"--worst", {M::kRandom}},              {"--swapped", {M::kRandom}},
+      {"--scenes", {M::kPaperBrightness}},    {"--levels", {M::kPaperBrightness}}};
+  const auto it = kModes.find(option);
+  return it == kModes.end() ? std::vector<Mode>{} : it->second;
+}
+
 /// The configuration at `path`, without its learnt shape model (`shape_rules`) or its check after stereo
 /// (`without_check`) when asked.
 DetectorConfig configWithout(const std::string& path, bool shape_rules, bool without_check) {
@@ -313,9 +338,11 @@ int main(int argc, char** argv) {
   RandomOptions random;
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
+  std::vector<std::string> given;  // the options given, to check each against the mode
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
+      if (a.size() > 2 && a.compare(0, 2, "--") == 0) given.push_back(a);
       auto value = [&]() -> std::string {
         if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
         return argv[++i];
@@ -373,13 +400,16 @@ int main(int argc, char** argv) {
     const int modes = (random.pairs > 0) + paper_brightness + !scenes.empty();
     if (config_path.empty()) throw std::invalid_argument("--config is required");
     if (modes != 1) throw std::invalid_argument("give scene files, --random N or --paper-brightness (one of them)");
-    if ((paper_scenes > 0 || !levels.empty()) && !paper_brightness) {
-      throw std::invalid_argument("--scenes and --levels go with --paper-brightness");
+    // An option of another mode would be ignored: refused instead, naming the mode it goes with.
+    const Mode mode = random.pairs > 0 ? Mode::kRandom : paper_brightness ? Mode::kPaperBrightness : Mode::kSceneFiles;
+    for (const std::string& option : given) {
+      const std::vector<Mode> modes_of = modesOf(option);
+      if (modes_of.empty() || std::find(modes_of.begin(), modes_of.end(), mode) != modes_of.end()) continue;
+      std::string goes_with;
+      for (Mode m : modes_of) goes_with += (goes_with.empty() ? "" : " or ") + modeName(m);
+      throw std::invalid_argument(option + " goes with " + goes_with + ", not with " + modeName(mode));
     }
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    if ((!random.json_path.empty() || random.worst > 0 || random.jobs > 1 || random.swapped) && random.pairs == 0) {
-      throw std::invalid_argument("--json, --worst, --jobs and --swapped go with --random");
-    }
     const std::vector<std::string> problems = sampler.validate();
     if (!problems.empty()) throw std::invalid_argument(problems.front());
   } catch (const std::exception& e) {
