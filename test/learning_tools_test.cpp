@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The learning tools end to end: learn_colours on frames and VOC labels that render_scene wrote, learnt over the
 // default configuration, gives a configuration that loads wherever it was written; learn_checks learns from records
-// and refuses records it cannot learn from; a grey frame is refused.
+// and refuses records it cannot learn from; a grey frame is refused; learn_checks and learn_shapes name a records
+// folder, a records file given twice, an output they cannot write and a malformed record before learning anything.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include "tool_test_helpers.h"
 #include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/detector_config.h"
+#include "underwater_stereo/detection/shape_features.h"
 
 namespace fs = std::filesystem;
 using namespace underwater_stereo;
@@ -139,6 +141,49 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
   EXPECT_NE(readText(dir / "learn.log").find("no \"pairs\" list"), std::string::npos) << readText(dir / "learn.log");
   EXPECT_EQ(learn("{\"config\": \"c --without-check --swapped\", \"pairs\": []}", "swapped.json"), 1);
   EXPECT_NE(readText(dir / "learn.log").find("swapped.json: made with --swapped"), std::string::npos)
+      << readText(dir / "learn.log");
+  fs::remove_all(dir);
+}
+
+// Both records learners: each problem named (exit 2 for the command line, 1 for a records file) and no model written.
+TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
+  const fs::path dir = fs::temp_directory_path() / ("records_learners_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "folder");
+  const DetectorConfig base = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  const std::string good = (dir / "good.json").string();
+  std::ofstream(good) << records(checkFeatureNames(base.learned.model->colours()).size(), true);
+  const std::string model = (dir / "model.yml.gz").string();
+  const struct {
+    std::string args;
+    int status;
+    std::string named;
+  } cases[] = {
+      {"--out " + model + " " + (dir / "folder").string(), 1, (dir / "folder").string() + ": is a folder, not a records file"},
+      {"--out " + model + " " + good + " " + (dir / "." / "good.json").string(), 2, "good.json is given twice (also as " + good},
+      {"--out " + (dir / "folder").string() + " " + good, 2, "--out " + (dir / "folder").string() + " is a folder: give the"},
+      {"--out " + (dir / "missing" / "m.yml.gz").string() + " " + good, 2, "is not a writable folder"},
+  };
+  for (const char* tool : {UWS_LEARN_CHECKS, UWS_LEARN_SHAPES}) {
+    const std::string command = std::string(tool) + (std::string(tool) == UWS_LEARN_CHECKS
+                                                         ? " --config " UWS_SOURCE_DIR "/config/detector.yaml "
+                                                         : " ");
+    for (const auto& c : cases) {
+      EXPECT_EQ(runTool(command + c.args, dir / "learn.log"), c.status) << tool << " " << c.args;
+      const std::string log = readText(dir / "learn.log");
+      EXPECT_NE(log.find(c.named), std::string::npos) << tool << " " << c.args << ": " << log;
+      EXPECT_FALSE(fs::exists(model)) << tool << " " << c.args;
+    }
+  }
+  // A shape feature that is no number: a malformed record, named with its file and pair.
+  std::string row = "[\"x\"";
+  for (int i = 1; i < kShapeFeatureCount; ++i) row += ", 0.5";
+  std::ofstream(dir / "bad_shape.json")
+      << "{\"pairs\": [{\"seed\": 9, \"objects\": [{\"eligible\": true, \"found\": true, \"shape\": \"sphere\", "
+         "\"detected\": {\"shape_features\": " + row + "]}}]}]}";
+  EXPECT_EQ(runTool(std::string(UWS_LEARN_SHAPES) + " --out " + model + " " + (dir / "bad_shape.json").string(),
+                    dir / "learn.log"),
+            1);
+  EXPECT_NE(readText(dir / "learn.log").find("bad_shape.json: seed 9: malformed record"), std::string::npos)
       << readText(dir / "learn.log");
   fs::remove_all(dir);
 }

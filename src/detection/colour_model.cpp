@@ -88,10 +88,10 @@ ColourModel ColourModel::load(const std::string& path, const std::vector<std::st
   return m;
 }
 
-void ColourModel::save(const std::string& path) const {
+void ColourModel::save(const std::string& path, const std::string& what) const {
   if (empty()) throw std::runtime_error("ColourModel::save: empty model");
   cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw std::runtime_error("colour model " + path + ": cannot be written");
+  if (!fs.isOpened()) throw std::runtime_error(what + " " + path + ": cannot be written");
   fs << "colours" << colours_;
   fs << "features" << std::vector<std::string>(features_.begin(), features_.begin() + feature_count_);
   fs << "forest" << "{";

@@ -84,14 +84,9 @@ void addRecords(const std::string& path, const std::vector<std::string>& colours
     throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
                                 "lack what the check turned down");
   }
-  for (const YAML::Node& pair : root["pairs"]) {
-    const std::string where = path + ": seed " + pair["seed"].as<std::string>("?");
-    try {
-      addPair(pair, colours, width, where, out);
-    } catch (const YAML::Exception& e) {  // a field of the wrong kind: named with its pair
-      throw std::invalid_argument(where + ": malformed record (" + e.what() + ")");
-    }
-  }
+  tools::forEachRecordPair(root, path, [&](const YAML::Node& pair, const std::string& where) {
+    addPair(pair, colours, width, where, out);
+  });
 }
 
 }  // namespace
@@ -108,6 +103,11 @@ int main(int argc, char** argv) {
     std::cerr << "learn_checks: give --config, --out and at least one records file\n" << kUsage;
     return 2;
   }
+  if (const int code = tools::checkOutputAndRecords("learn_checks", kUsage, out, "the check model file to write (CHECK.yml.gz)",
+                                                    inputs, "its detections would be learnt twice");
+      code >= 0) {
+    return code;
+  }
   try {
     const DetectorConfig config = loadDetectorConfigFile(config_path, [](YAML::Node& root) {
       if (root.IsMap() && root["colour_model"] && root["colour_model"].IsMap()) root["colour_model"].remove("check_file");
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     ColourModelTraining training;
     training.max_depth = 12;
     training.balance = 0;
-    ColourModel::train(samples.rows, samples.labels, colours, training, names).save(out);
+    ColourModel::train(samples.rows, samples.labels, colours, training, names).save(out, "check model");
     std::map<int, int> counts;
     for (int l : samples.labels) ++counts[l];
     std::cout << "learnt from " << samples.labels.size() << " detections (background " << counts[kBackground];

@@ -23,6 +23,7 @@
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_file.h"
 #include "underwater_stereo/detection/miss_causes.h"
+#include "tool_helpers.h"
 
 using namespace underwater_stereo;
 
@@ -138,29 +139,10 @@ Options parse(int argc, char** argv) {
   if (o.images.empty() || o.images.size() != o.annotations.size()) {
     throw std::invalid_argument("give --images DIR --annotations DIR (in pairs)");
   }
-  for (std::size_t i = 0; i < o.images.size(); ++i) {
-    for (std::size_t j = 0; j < i; ++j) {
-      std::error_code error;
-      if (std::filesystem::equivalent(o.images[i], o.images[j], error)) {
-        throw std::invalid_argument("--images " + o.images[i] + " is given twice (also as " + o.images[j] +
-                                    "): its frames would be learnt twice, and judged by folds that learnt them");
-      }
-    }
-  }
+  tools::refuseRepeated("--images ", o.images, "its frames would be learnt twice, and judged by folds that learnt them");
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
-  {  // checked now, not after a cross-validation that can take many minutes
-    std::error_code error;
-    if (std::filesystem::is_directory(o.out, error)) {
-      throw std::invalid_argument("--out " + o.out + " is a folder: give the configuration file to write (FILE.yaml)");
-    }
-    const std::filesystem::path folder = std::filesystem::absolute(o.out, error).parent_path();
-    if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK) != 0) {
-      throw std::invalid_argument("--out " + o.out + ": its folder " + folder.string() + " is not a writable folder");
-    }
-    if (std::filesystem::exists(o.out, error) && ::access(o.out.c_str(), W_OK) != 0) {
-      throw std::invalid_argument("--out " + o.out + " exists and cannot be written");
-    }
-  }
+  // Checked now, not after a cross-validation that can take many minutes.
+  tools::checkWritableFile("--out", o.out, "the configuration file to write (FILE.yaml)");
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {
     throw std::invalid_argument("--choose-thresholds needs cross-validation (--folds 2 or more)");

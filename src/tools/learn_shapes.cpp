@@ -25,25 +25,25 @@ const char* kUsage =
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
 void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind>& labels) {
   const YAML::Node root = tools::loadRandomRecords(path);
-  for (const YAML::Node& pair : root["pairs"]) {
+  tools::forEachRecordPair(root, path, [&](const YAML::Node& pair, const std::string& where) {
     for (const YAML::Node& o : pair["objects"]) {
       if (!o["eligible"].as<bool>(false) || !o["found"].as<bool>(false)) continue;
       const YAML::Node f = o["detected"]["shape_features"];
       if (!f || !f.IsSequence()) {
-        throw std::invalid_argument(path + ": a found object without detected.shape_features (records older than the "
-                                           "shape model?)");
+        throw std::invalid_argument(where + ": a found object without detected.shape_features (records older than the "
+                                            "shape model?)");
       }
       if (f.size() == 0) continue;  // too few points to describe
       if (static_cast<int>(f.size()) != kShapeFeatureCount) {
-        throw std::invalid_argument(path + ": " + std::to_string(f.size()) + " shape features per object, this build computes " +
+        throw std::invalid_argument(where + ": " + std::to_string(f.size()) + " shape features per object, this build computes " +
                                     std::to_string(kShapeFeatureCount) + ": evaluate again with this build");
       }
       cv::Mat row(1, kShapeFeatureCount, CV_32F);
       for (int j = 0; j < kShapeFeatureCount; ++j) row.at<float>(j) = f[j].IsNull() ? 0.0F : f[j].as<float>();
       samples.push_back(row);
-      labels.push_back(shapeFromName(o["shape"].as<std::string>(), path + ": shape"));
+      labels.push_back(shapeFromName(o["shape"].as<std::string>(), where + ": shape"));
     }
-  }
+  });
 }
 
 }  // namespace
@@ -58,6 +58,11 @@ int main(int argc, char** argv) {
   if (out.empty() || inputs.empty()) {
     std::cerr << "learn_shapes: give --out MODEL and at least one records file\n" << kUsage;
     return 2;
+  }
+  if (const int code = tools::checkOutputAndRecords("learn_shapes", kUsage, out, "the shape model file to write (MODEL.yml.gz)",
+                                                    inputs, "its objects would be learnt twice");
+      code >= 0) {
+    return code;
   }
   try {
     cv::Mat samples(0, kShapeFeatureCount, CV_32F);

@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Small pieces the command-line tools share.
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -50,10 +53,44 @@ inline std::string percentileCell(const std::vector<double>& v, double q, double
   return v.empty() ? "-" : fixedCell(scale * percentile(v, q), digits);
 }
 
+/// Checks that the file `path` (given as `option`, e.g. "--out") can be written, before a tool spends minutes on
+/// what it will write there. @throw std::invalid_argument naming it when it is a folder, its folder is missing or
+/// not writable, or it exists and cannot be written; `what` says what to give instead ("the model file to write").
+inline void checkWritableFile(const std::string& option, const std::string& path, const std::string& what) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw std::invalid_argument(option + " " + path + " is a folder: give " + what);
+  }
+  const std::filesystem::path folder = std::filesystem::absolute(path, error).parent_path();
+  if (!std::filesystem::is_directory(folder, error) || ::access(folder.c_str(), W_OK) != 0) {
+    throw std::invalid_argument(option + " " + path + ": its folder " + folder.string() + " is not a writable folder");
+  }
+  if (std::filesystem::exists(path, error) && ::access(path.c_str(), W_OK) != 0) {
+    throw std::invalid_argument(option + " " + path + " exists and cannot be written");
+  }
+}
+
+/// @throw std::invalid_argument when two of `paths` (given as `option`) are the same file or folder: its contents
+/// would be learnt twice; `why` adds what else that would do.
+inline void refuseRepeated(const std::string& option, const std::vector<std::string>& paths, const std::string& why) {
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      std::error_code error;
+      if (paths[i] == paths[j] || std::filesystem::equivalent(paths[i], paths[j], error)) {
+        throw std::invalid_argument(option + paths[i] + " is given twice (also as " + paths[j] + "): " + why);
+      }
+    }
+  }
+}
+
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
-/// @throw std::invalid_argument naming the file when it is not readable, holds no "pairs" list or was made with
-/// --swapped.
+/// @throw std::invalid_argument naming the file when it is a folder, not readable, holds no "pairs" list or was made
+/// with --swapped.
 inline YAML::Node loadRandomRecords(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw std::invalid_argument(path + ": is a folder, not a records file (evaluate_detector --random --json FILE)");
+  }
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);  // JSON is YAML
@@ -67,6 +104,20 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
     throw std::invalid_argument(path + ": made with --swapped (pairs given the wrong way round): nothing to learn from");
   }
   return root;
+}
+
+/// Calls `add` with each pair of the records `root` read from `path`; a field of the wrong kind is named with the file
+/// and the pair's seed. @throw std::invalid_argument "PATH: seed S: malformed record (...)", or what `add` throws.
+inline void forEachRecordPair(const YAML::Node& root, const std::string& path,
+                              const std::function<void(const YAML::Node& pair, const std::string& where)>& add) {
+  for (const YAML::Node& pair : root["pairs"]) {
+    const std::string where = path + ": seed " + pair["seed"].as<std::string>("?");
+    try {
+      add(pair, where);
+    } catch (const YAML::Exception& e) {
+      throw std::invalid_argument(where + ": malformed record (" + e.what() + ")");
+    }
+  }
 }
 
 /// Reads a learning tool's command line: --help, the options in `values` (each takes one value, e.g. "--out"), and
@@ -88,6 +139,21 @@ inline int parseRecordsCommandLine(int argc, char** argv, const std::string& too
     } else {
       inputs.push_back(a);
     }
+  }
+  return -1;
+}
+
+/// A learning tool's output file and records files checked before any record is read (checkWritableFile,
+/// refuseRepeated): @return -1 to go on, or 2 with the problem and the usage printed.
+inline int checkOutputAndRecords(const std::string& tool, const char* usage, const std::string& out,
+                                 const std::string& out_what, const std::vector<std::string>& records,
+                                 const std::string& learnt_twice) {
+  try {
+    checkWritableFile("--out", out, out_what);
+    refuseRepeated("", records, learnt_twice);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << tool << ": " << e.what() << "\n" << usage;
+    return 2;
   }
   return -1;
 }

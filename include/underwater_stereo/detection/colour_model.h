@@ -45,8 +45,8 @@ class ColourModel {
   /// @throw std::invalid_argument naming the file when it cannot be read or is not a model of these features.
   static ColourModel load(const std::string& path, const std::vector<std::string>& features = blobFeatureNames(),
                           const std::string& what = "colour model");
-  /// @throw std::runtime_error naming the file when it cannot be written.
-  void save(const std::string& path) const;
+  /// @throw std::runtime_error naming the file (as `what`) when it cannot be written.
+  void save(const std::string& path, const std::string& what = "colour model") const;
 
   bool empty() const { return forest_.empty(); }
   const std::vector<std::string>& colours() const { return colours_; }
