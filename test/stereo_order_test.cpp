@@ -81,3 +81,18 @@ TEST(StereoOrder, APairLooksSwappedWhenHalfItsObjectsDoAndNoFewerFoundTheirSilho
   EXPECT_TRUE(pairOrder({swapped, swapped, with_silhouette}).looksSwapped());
   EXPECT_FALSE(pairOrder({swapped, with_silhouette, with_silhouette}).looksSwapped());
 }
+
+// One pair now and then that looks swapped is published; the third with no pair of objects between them points at the
+// wiring; pairs without objects that look in order neither count nor reset.
+TEST(StereoOrder, SwappedPairsWithoutObjectsBetweenThemPointAtTheWiring) {
+  SwappedPairWatch watch;
+  EXPECT_EQ(watch.add(true, false), 0);
+  EXPECT_EQ(watch.add(false, true), 0);  // objects: the count starts again
+  EXPECT_EQ(watch.add(true, false), 0);
+  EXPECT_EQ(watch.add(false, false), 0);  // an empty pair in order: neither
+  EXPECT_EQ(watch.add(true, false), 0);
+  EXPECT_EQ(watch.add(true, false), SwappedPairWatch::kPairsForWiring);
+  EXPECT_EQ(watch.add(true, false), SwappedPairWatch::kPairsForWiring + 1);
+  EXPECT_EQ(watch.add(false, true), 0);
+  EXPECT_EQ(watch.add(true, false), 0);
+}

@@ -86,4 +86,13 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
   return out;
 }
 
+int SwappedPairWatch::add(bool looks_swapped, bool has_objects) {
+  if (looks_swapped) {
+    const int swapped = ++since_objects_;
+    return swapped >= kPairsForWiring ? swapped : 0;
+  }
+  if (has_objects) since_objects_ = 0;
+  return 0;
+}
+
 }  // namespace underwater_stereo

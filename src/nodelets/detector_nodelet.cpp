@@ -37,6 +37,7 @@
 #include "underwater_stereo/detection/annotator.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/raw_frame.h"
+#include "underwater_stereo/detection/stereo_order.h"
 #include "underwater_stereo/ros_glue/compressed_image_publisher.h"
 #include "underwater_stereo/ros_glue/detector_reconfigure.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
@@ -316,19 +317,13 @@ class DetectorNodelet : public nodelet::Nodelet {
       badInput(e.what());
       return std::nullopt;
     }
-    // A pair that looks swapped reports no object (Detector::detect). One now and then is a scene that fooled the
-    // check (1 of 500 randomised pairs): published, empty. Several with no pair of objects between them are a head
-    // wired the wrong way round: refused as bad input, with an ERROR naming it.
-    if (out.result.looks_swapped) {
-      const int swapped = ++swapped_since_objects_;
-      if (swapped >= kSwappedPairsForError) {
-        badInput("left and right images look swapped: in " + std::to_string(swapped) + " pairs since the last with "
-                 "objects most objects' right views lie right of their left ones (check the cameras' topics, serials "
-                 "or remappings)");
-        return std::nullopt;
-      }
-    } else if (!out.result.objects.empty()) {
-      swapped_since_objects_ = 0;
+    // A pair that looks swapped reports no object (Detector::detect): published, empty, unless the watch takes the
+    // head's wiring for the cause: then refused as bad input, with an ERROR naming it.
+    if (const int swapped = swapped_pairs_.add(out.result.looks_swapped, !out.result.objects.empty()); swapped > 0) {
+      badInput("left and right images look swapped: in " + std::to_string(swapped) + " pairs since the last with "
+               "objects most objects' right views lie right of their left ones (check the cameras' topics, serials "
+               "or remappings)");
+      return std::nullopt;
     }
     out.pair = std::move(pair);
     return out;
@@ -421,7 +416,6 @@ class DetectorNodelet : public nodelet::Nodelet {
 
   static constexpr double kErrorHoldS = 5.0;  ///< a bad pair keeps the diagnostic at ERROR this long
   static constexpr std::size_t kErrorKindsNamed = 4;  ///< distinct bad inputs named in the summary, then counted
-  static constexpr int kSwappedPairsForError = 3;  ///< pairs that look swapped, none with objects between, to refuse
 
   // Configuration.
   DetectorConfig config_;
@@ -464,7 +458,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   ros::WallTimer diagnostics_timer_;
   std::atomic<long> received_{0}, processed_{0};
-  std::atomic<int> swapped_since_objects_{0};  ///< pairs that looked swapped since the last with objects reported
+  SwappedPairWatch swapped_pairs_;
   ros_glue::RecentProblems bad_inputs_{kErrorHoldS, kErrorKindsNamed};
   std::mutex stats_mutex_;
   ros::WallTime last_diagnosis_;

@@ -5,6 +5,7 @@
 // this check block matching would measure it at a confident, wrong range.
 #include <opencv2/core.hpp>
 
+#include <atomic>
 #include <cstddef>
 #include <vector>
 
@@ -50,5 +51,20 @@ struct PairOrder {
 };
 
 PairOrder pairOrder(const std::vector<ObjectOrderEvidence>& objects);
+
+/// A stream of pairs' verdicts (Detector::detect's looks_swapped, and whether objects were reported): one pair now and
+/// then that looks swapped is a scene that fooled the check (1 of 500 randomised pairs); several with no pair of
+/// objects between them are a head wired the wrong way round. Thread-safe (a detector's workers share one).
+class SwappedPairWatch {
+ public:
+  /// Pairs that look swapped, none with objects between them, that make the head's wiring the likely cause.
+  static constexpr int kPairsForWiring = 3;
+  /// Counts one pair: @return the pairs that looked swapped since the last with objects, when they reach
+  /// kPairsForWiring (this pair's included), else 0.
+  int add(bool looks_swapped, bool has_objects);
+
+ private:
+  std::atomic<int> since_objects_{0};
+};
 
 }  // namespace underwater_stereo
