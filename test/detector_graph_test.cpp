@@ -238,6 +238,16 @@ class HandFedDetector : public ::testing::Test {
   }
   void TearDown() override { spinner.stop(); }
 
+  /// Whether the objects of the pair stamped `stamp` are published within 20 s.
+  bool published(const ros::Time& stamp) {
+    return waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(listener.mutex);
+          return listener.objects.count(stamp) > 0;
+        },
+        20.0);
+  }
+
   ros::NodeHandle nh;
   Listener listener{nh};
   Publisher pub{nh};
@@ -401,13 +411,7 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
   }
   stamp += ros::Duration(1.0);
   pub.send(left, left_info, right, right_info, stamp);
-  ASSERT_TRUE(waitFor(
-      [&] {
-        std::lock_guard<std::mutex> lock(listener.mutex);
-        return listener.objects.count(stamp) > 0;
-      },
-      20.0))
-      << "the valid pair after the bad ones was not processed";
+  ASSERT_TRUE(published(stamp)) << "the valid pair after the bad ones was not processed";
   std::lock_guard<std::mutex> lock(listener.mutex);
   EXPECT_EQ(listener.objects[stamp]->objects.size(), 2U);
 }
@@ -436,13 +440,7 @@ TEST_F(HandFedDetector, BadInputOfMonoPairsWarnsThatNoColourCanBeFound) {
         15.0);
   };
   pub.send(l, left_info, r, right_info, stamp);
-  ASSERT_TRUE(waitFor(
-      [&] {
-        std::lock_guard<std::mutex> lock(listener.mutex);
-        return listener.objects.count(stamp) > 0;
-      },
-      20.0))
-      << "the mono8 pair was not processed";
+  ASSERT_TRUE(published(stamp)) << "the mono8 pair was not processed";
   {
     std::lock_guard<std::mutex> lock(listener.mutex);
     EXPECT_TRUE(listener.objects[stamp]->objects.empty());
@@ -474,13 +472,7 @@ TEST_F(HandFedDetector, ExactSyncPairsWhoseDistortionVectorChangesLengthAreAllPr
     if (n == 8) li.distortion_model = ri.distortion_model = "rational_polynomial";
     stamp += ros::Duration(1.0);
     pub.send(left, li, right, ri, stamp);
-    EXPECT_TRUE(waitFor(
-        [&] {
-          std::lock_guard<std::mutex> lock(listener.mutex);
-          return listener.objects.count(stamp) > 0;
-        },
-        20.0))
-        << "pair " << i << " (distortion vector of " << n << ") was not processed";
+    EXPECT_TRUE(published(stamp)) << "pair " << i << " (distortion vector of " << n << ") was not processed";
     std::lock_guard<std::mutex> lock(listener.mutex);
     if (listener.objects.count(stamp)) {
       EXPECT_EQ(listener.objects[stamp]->objects.size(), 2U) << "pair " << i;
