@@ -185,5 +185,14 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
             1);
   EXPECT_NE(readText(dir / "learn.log").find("bad_shape.json: seed 9: malformed record"), std::string::npos)
       << readText(dir / "learn.log");
+  // A pair that is no map at all.
+  std::ofstream(dir / "scalar.json") << "{\"config\": \"c --without-check\", \"pairs\": [3]}";
+  for (const std::string& command : {std::string(UWS_LEARN_SHAPES) + " --out " + model,
+                                     std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " + model}) {
+    EXPECT_EQ(runTool(command + " " + (dir / "scalar.json").string(), dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("scalar.json: seed ?: malformed record (a pair is not a map)"),
+              std::string::npos)
+        << readText(dir / "learn.log");
+  }
   fs::remove_all(dir);
 }

@@ -111,8 +111,9 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
 inline void forEachRecordPair(const YAML::Node& root, const std::string& path,
                               const std::function<void(const YAML::Node& pair, const std::string& where)>& add) {
   for (const YAML::Node& pair : root["pairs"]) {
-    const std::string where = path + ": seed " + pair["seed"].as<std::string>("?");
+    const std::string where = path + ": seed " + (pair.IsMap() ? pair["seed"].as<std::string>("?") : std::string("?"));
     try {
+      if (!pair.IsMap()) throw std::invalid_argument(where + ": malformed record (a pair is not a map)");
       add(pair, where);
     } catch (const YAML::Exception& e) {
       throw std::invalid_argument(where + ": malformed record (" + e.what() + ")");
