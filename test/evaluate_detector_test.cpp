@@ -63,7 +63,9 @@ TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
                {"--paper-brightness --jobs 2", "--jobs goes with --random, not with --paper-brightness"},
                {"--paper-brightness --verbose", "--verbose goes with scene files or --random, not with"},
                {"scene.yaml --seed 3", "--seed goes with --random or --paper-brightness, not with scene files"},
-               {"scene.yaml --size 640x400", "--size goes with --random or --paper-brightness, not with scene"}};
+               {"scene.yaml --size 640x400", "--size goes with --random or --paper-brightness, not with scene"},
+               {"--random 2 --size 10x10", "--size 10x10: width"},
+               {"--random 2 --size 640x400x3", "--size: '640x400x3' is not WIDTHxHEIGHT"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;

@@ -71,3 +71,24 @@ TEST(RenderScene, StampsAndTopicsABagCannotHoldAreRefused) {
     EXPECT_FALSE(fs::exists(bag)) << bad;
   }
 }
+
+// A size the sampler cannot take is named as the --size given, one that is not WIDTHxHEIGHT (trailing characters
+// included) as such; nothing is written.
+TEST(RenderScene, ABadSizeIsNamedAsGiven) {
+  const fs::path out = fs::temp_directory_path() / ("render_scene_size_" + std::to_string(::getpid()));
+  const fs::path log = out.string() + ".log";
+  const struct {
+    std::string size, named;
+  } cases[] = {{"10x10", "--size 10x10: width"}, {"320x200px", "--size: '320x200px' is not WIDTHxHEIGHT"},
+               {"320", "--size: '320' is not WIDTHxHEIGHT"}};
+  for (const auto& c : cases) {
+    EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --random 1 --size " + c.size + " --out " +
+                                             out.string(),
+                                         log),
+              2)
+        << c.size;
+    EXPECT_NE(readText(log).find(c.named), std::string::npos) << readText(log);
+    EXPECT_FALSE(fs::exists(out)) << c.size;
+  }
+  fs::remove(log);
+}

@@ -339,6 +339,7 @@ int main(int argc, char** argv) {
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
   std::vector<std::string> given;  // the options given, to check each against the mode
+  std::string size_given;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -387,9 +388,9 @@ int main(int argc, char** argv) {
         random.worst = static_cast<std::size_t>(integer(1, 100000));
         random.worst_dir = value();
       } else if (a == "--size") {
-        const std::string v = value();
-        if (std::sscanf(v.c_str(), "%dx%d", &sampler.width, &sampler.height) != 2) {
-          throw std::invalid_argument("--size: '" + v + "' is not WIDTHxHEIGHT");
+        size_given = value();
+        if (!tools::parseImageSize(size_given, sampler.width, sampler.height)) {
+          throw std::invalid_argument("--size: '" + size_given + "' is not WIDTHxHEIGHT");
         }
       } else if (!a.empty() && a[0] == '-') {
         throw std::invalid_argument("unknown option " + a);
@@ -410,8 +411,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument(option + " goes with " + goes_with + ", not with " + modeName(mode));
     }
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    const std::vector<std::string> problems = sampler.validate();
-    if (!problems.empty()) throw std::invalid_argument(problems.front());
+    const std::vector<std::string> problems = sampler.validate();  // only --size sets the sampler
+    if (!problems.empty()) throw std::invalid_argument("--size " + size_given + ": " + problems.front());
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
     return 2;

@@ -25,6 +25,7 @@
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
 #include "underwater_stereo/sim/voc_labels.h"
+#include "tool_helpers.h"
 
 namespace {
 
@@ -53,6 +54,7 @@ struct Options {
 };
 
 bool parse(int argc, char** argv, Options& o, std::string& error) {
+  std::string size_given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
@@ -73,10 +75,11 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       else if (arg == "--seed") o.seed = std::stoll(value);
       else if (arg == "--out") o.out_dir = value;
       else if (arg == "--size") {
-        if (std::sscanf(value.c_str(), "%dx%d", &o.sampler.width, &o.sampler.height) != 2) {
+        if (!underwater_stereo::tools::parseImageSize(value, o.sampler.width, o.sampler.height)) {
           error = "--size: '" + value + "' is not WIDTHxHEIGHT";
           return false;
         }
+        size_given = value;
       } else {
         error = "unknown option " + arg;
         return false;
@@ -91,7 +94,7 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
     else if (o.random < 1) error = "--random must be >= 1";
     else if (o.seed < 0) error = "--seed must be >= 0";
     else if (o.out_dir.empty()) error = "--random needs --out DIR";
-    else if (!o.sampler.validate().empty()) error = o.sampler.validate().front();
+    else if (!o.sampler.validate().empty()) error = "--size " + size_given + ": " + o.sampler.validate().front();
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";

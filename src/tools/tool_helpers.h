@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
@@ -26,6 +27,20 @@ inline bool parseNumber(const std::string& text, double& out) {
   const double v = std::strtod(text.c_str(), &end);
   if (text.empty() || end == text.c_str() || *end != '\0') return false;
   out = v;
+  return true;
+}
+
+/// `text` as WIDTHxHEIGHT (two whole numbers and nothing else) into `width` and `height`; false (both untouched)
+/// otherwise.
+inline bool parseImageSize(const std::string& text, int& width, int& height) {
+  int w = 0, h = 0, used = 0;
+  char x = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 || x != 'x' ||
+      used != static_cast<int>(text.size())) {
+    return false;
+  }
+  width = w;
+  height = h;
   return true;
 }
 
