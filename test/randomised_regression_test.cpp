@@ -44,3 +44,23 @@ TEST(RandomisedRegression, DefaultConfigOnHeldOutSampledScenes) {
   EXPECT_GE(shape_right, 0.55 * shape_judged) << shape_right << " of " << shape_judged << " shapes named right";
   EXPECT_LE(false_detections, 1.5 * kPairs) << false_detections << " false in " << kPairs << " pairs";
 }
+
+// A pair whose run throws is named with what it threw; every other pair is still run and kept, in index order,
+// whatever the number of jobs.
+TEST(RandomisedRegression, APairThatFailsIsNamedAndTheOthersAreKept) {
+  for (int jobs : {1, 3}) {
+    const tools::PairRuns runs = tools::runPairs(10, jobs, [](int i) {
+      if (i == 3 || i == 7) throw std::runtime_error("pair " + std::to_string(i) + " broke");
+      tools::PairRecord r;
+      r.seed = 500 + static_cast<std::uint64_t>(i);
+      return r;
+    });
+    ASSERT_EQ(runs.records.size(), 8U) << jobs << " jobs";
+    std::vector<std::uint64_t> seeds;
+    for (const tools::PairRecord& r : runs.records) seeds.push_back(r.seed);
+    EXPECT_EQ(seeds, (std::vector<std::uint64_t>{500, 501, 502, 504, 505, 506, 508, 509})) << jobs << " jobs";
+    ASSERT_EQ(runs.failures.size(), 2U) << jobs << " jobs";
+    EXPECT_EQ(runs.failures[0], (std::pair<int, std::string>{3, "pair 3 broke"}));
+    EXPECT_EQ(runs.failures[1], (std::pair<int, std::string>{7, "pair 7 broke"}));
+  }
+}

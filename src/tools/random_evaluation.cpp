@@ -4,11 +4,14 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 #include "tool_helpers.h"
 #include "underwater_stereo/detection/image_quality.h"
@@ -229,6 +232,34 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
                                           : rejectionStageName(static_cast<RejectionStage>(latest[k]));
   }
   return rec;
+}
+
+PairRuns runPairs(int pairs, int jobs, const std::function<PairRecord(int)>& run) {
+  std::vector<std::optional<PairRecord>> done(static_cast<std::size_t>(std::max(0, pairs)));
+  std::vector<std::string> errors(done.size());
+  std::atomic<int> next{0};
+  auto work = [&]() {
+    for (int i = next++; i < pairs; i = next++) {
+      try {
+        done[static_cast<std::size_t>(i)] = run(i);
+      } catch (const std::exception& e) {
+        errors[static_cast<std::size_t>(i)] = e.what();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 1; j < jobs; ++j) threads.emplace_back(work);
+  work();
+  for (auto& t : threads) t.join();
+  PairRuns out;
+  for (std::size_t i = 0; i < done.size(); ++i) {
+    if (done[i]) {
+      out.records.push_back(std::move(*done[i]));
+    } else {
+      out.failures.emplace_back(static_cast<int>(i), errors[i]);
+    }
+  }
+  return out;
 }
 
 void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {

@@ -5,8 +5,10 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "underwater_stereo/detection/detector.h"
@@ -81,6 +83,14 @@ const std::vector<std::string>& missCauseNames();
 /// to it by the same rule. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
+
+/// The records of pairs 0..pairs-1, each made by `run(i)`, `jobs` at a time; a pair whose run throws is listed with
+/// its message and the others still run (nothing already computed is lost).
+struct PairRuns {
+  std::vector<PairRecord> records;                     ///< the pairs that ran, in index order
+  std::vector<std::pair<int, std::string>> failures;  ///< (index, what it threw), in index order
+};
+PairRuns runPairs(int pairs, int jobs, const std::function<PairRecord(int)>& run);
 
 /// Markdown tables: overall, then per range, turbidity, brightness, water, colour and shape bin.
 void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs);
