@@ -19,7 +19,6 @@
 #include <iostream>
 #include <string>
 
-#include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
 #include "underwater_stereo/sim/renderer.h"
@@ -52,6 +51,12 @@ struct Options {
   double rate_hz = 15.0;
   double start_time_s = 1.6e9;
 };
+
+/// The rendered `image` (in `encoding`) as BGR8, demosaiced by cv_bridge: the judge's pictures are not made by the
+/// judged code (detection/'s RawFrame).
+cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
+  return cv_bridge::cvtColor(boost::make_shared<cv_bridge::CvImage>(std_msgs::Header(), encoding, image), "bgr8")->image;
+}
 
 bool parse(int argc, char** argv, Options& o, std::string& error) {
   std::string size_given;
@@ -139,7 +144,7 @@ void writeTrainingData(const Options& opt) {
     char id[32];
     std::snprintf(id, sizeof(id), "%06llu", static_cast<unsigned long long>(seed));
     const std::string image = std::string(id) + ".png";
-    const cv::Mat bgr = RawFrame(pair.left, pixelLayoutOf(pair.encoding)).bgr();
+    const cv::Mat bgr = demosaiced(pair.left, pair.encoding);
     if (!cv::imwrite((out / "images" / image).string(), bgr) ||
         !cv::imwrite((out / "masks" / image).string(), sim::labelMask(pair.left_labels, labelled))) {
       throw std::runtime_error("cannot write " + image + " into " + opt.out_dir);
@@ -210,7 +215,7 @@ int main(int argc, char** argv) {
         char name[32];
         for (const auto& [side, image] : {std::pair<const char*, const cv::Mat&>{"left", pair.left}, {"right", pair.right}}) {
           std::snprintf(name, sizeof(name), "/%s_%04d.png", side, k);
-          const cv::Mat bgr = RawFrame(image, pixelLayoutOf(pair.encoding)).bgr();
+          const cv::Mat bgr = demosaiced(image, pair.encoding);
           if (!cv::imwrite(opt.png_dir + name, bgr)) throw std::runtime_error(std::string("cannot write ") + opt.png_dir + name);
         }
         YAML::Node frame;
