@@ -238,6 +238,24 @@ class HandFedDetector : public ::testing::Test {
   }
   void TearDown() override { spinner.stop(); }
 
+  /// The first diagnostic of `level` whose message holds `text`, waited for up to `timeout_s`; "" when none came.
+  std::string diagnosed(unsigned char level, const std::string& text, double timeout_s) {
+    std::string message;
+    waitFor(
+        [&] {
+          std::lock_guard<std::mutex> lock(listener.mutex);
+          for (const auto& d : listener.diagnostics) {
+            if (d.level == level && d.message.find(text) != std::string::npos) {
+              message = d.message;
+              return true;
+            }
+          }
+          return false;
+        },
+        timeout_s);
+    return message;
+  }
+
   /// Whether the objects of the pair stamped `stamp` are published within 20 s.
   bool published(const ros::Time& stamp) {
     return waitFor(
@@ -394,17 +412,7 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
     pub.send(l, li, r, ri, stamp, c.right_offset_s);
     // Approximate sync emits a set once later messages show it is the best one: follow with a second.
     if (c.right_offset_s != 0) pub.send(l, li, r, ri, stamp + ros::Duration(0.5), c.right_offset_s);
-    const bool reported = waitFor(
-        [&] {
-          std::lock_guard<std::mutex> lock(listener.mutex);
-          for (const auto& s : listener.diagnostics) {
-            if (s.level == diagnostic_msgs::DiagnosticStatus::ERROR && s.message.find(c.expected_in_message) != std::string::npos) {
-              return true;
-            }
-          }
-          return false;
-        },
-        10.0);
+    const bool reported = !diagnosed(diagnostic_msgs::DiagnosticStatus::ERROR, c.expected_in_message, 10.0).empty();
     EXPECT_TRUE(reported) << c.name << ": no ERROR diagnostic mentioning '" << c.expected_in_message << "'";
     std::lock_guard<std::mutex> lock(listener.mutex);
     EXPECT_EQ(listener.objects.count(stamp), 0U) << c.name << ": an objects message was published";
@@ -429,23 +437,13 @@ TEST_F(HandFedDetector, BadInputOfMonoPairsWarnsThatNoColourCanBeFound) {
     listener.diagnostics.clear();
   }
   ros::Time stamp(3000.0);
-  auto detectorSays = [&](unsigned char level, const std::string& text) {
-    return waitFor(
-        [&] {
-          std::lock_guard<std::mutex> lock(listener.mutex);
-          return std::any_of(listener.diagnostics.begin(), listener.diagnostics.end(), [&](const auto& d) {
-            return d.level == level && d.message.find(text) != std::string::npos;
-          });
-        },
-        15.0);
-  };
   pub.send(l, left_info, r, right_info, stamp);
   ASSERT_TRUE(published(stamp)) << "the mono8 pair was not processed";
   {
     std::lock_guard<std::mutex> lock(listener.mutex);
     EXPECT_TRUE(listener.objects[stamp]->objects.empty());
   }
-  EXPECT_TRUE(detectorSays(diagnostic_msgs::DiagnosticStatus::WARN, "mono8 images carry no colour"))
+  EXPECT_FALSE(diagnosed(diagnostic_msgs::DiagnosticStatus::WARN, "mono8 images carry no colour", 15.0).empty())
       << "no WARN diagnostic saying that grey images carry no colour";
   {
     std::lock_guard<std::mutex> lock(listener.mutex);
@@ -453,7 +451,7 @@ TEST_F(HandFedDetector, BadInputOfMonoPairsWarnsThatNoColourCanBeFound) {
   }
   stamp += ros::Duration(1.0);
   pub.send(left, left_info, right, right_info, stamp);
-  EXPECT_TRUE(detectorSays(diagnostic_msgs::DiagnosticStatus::OK, "detecting"))
+  EXPECT_FALSE(diagnosed(diagnostic_msgs::DiagnosticStatus::OK, "detecting", 15.0).empty())
       << "the diagnostic did not return to detecting after a colour pair";
 }
 
@@ -506,20 +504,8 @@ TEST_F(HandFedDetector, ExactSyncCountsImagesThatNeverPairAndWarns) {
     pub.send(black, left_info, black, right_info, stamp);
     ros::WallDuration(0.05).sleep();
   }
-  std::string last;
-  const bool warned = waitFor(
-      [&] {
-        std::lock_guard<std::mutex> lock(listener.mutex);
-        for (const auto& d : listener.diagnostics) {
-          if (d.level == diagnostic_msgs::DiagnosticStatus::WARN && d.message.find("never paired") != std::string::npos) {
-            last = d.message;
-            return true;
-          }
-        }
-        return false;
-      },
-      15.0);
-  ASSERT_TRUE(warned) << "no WARN diagnostic about images that never paired";
+  const std::string last = diagnosed(diagnostic_msgs::DiagnosticStatus::WARN, "never paired", 15.0);
+  ASSERT_FALSE(last.empty()) << "no WARN diagnostic about images that never paired";
   EXPECT_NE(last.find(" ms away"), std::string::npos) << last;
   // The three are counted at two moments ~50 ms apart (as each queue moves past them): a report between them
   // holds part of the counts. The totals are read from a report made after every image was sent.

@@ -2,7 +2,6 @@
 // learn_colours: learns the designated colours from labelled frames (Pascal VOC boxes) and writes a complete
 // detector configuration using the learnt colour model; reports k-fold cross-validation by frame.
 #include <dirent.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
