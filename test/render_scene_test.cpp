@@ -92,3 +92,37 @@ TEST(RenderScene, ABadSizeIsNamedAsGiven) {
   }
   fs::remove(log);
 }
+
+// --luma sets the mean luma the sampled scenes are exposed to (dark water to learn from); a range the sampler
+// refuses is named as the --luma given, one that is not LO,HI as such; nothing is written.
+TEST(RenderScene, LumaSetsTheExposureOfTheSampledScenes) {
+  const fs::path out = fs::temp_directory_path() / ("render_scene_luma_" + std::to_string(::getpid()));
+  auto mean_luma = [&](const std::string& luma) {
+    fs::remove_all(out);
+    EXPECT_EQ(run("--random 1 --seed 77 --size 320x200 --luma " + luma + " --out " + out.string()), 0) << luma;
+    cv::Mat grey;
+    cv::cvtColor(cv::imread((out / "images" / "000077.png").string()), grey, cv::COLOR_BGR2GRAY);
+    return cv::mean(grey)[0];
+  };
+  const double dark = mean_luma("14,16");
+  const double bright = mean_luma("180,182");
+  EXPECT_NEAR(dark, 15, 5);
+  EXPECT_NEAR(bright, 181, 8);
+  fs::remove_all(out);
+
+  const fs::path log = out.string() + ".log";
+  const struct {
+    std::string luma, named;
+  } cases[] = {{"5,300", "--luma 5,300: target_luma"}, {"40,12", "--luma 40,12: target_luma"},
+               {"12,40x", "--luma: '12,40x' is not LO,HI"}, {"12", "--luma: '12' is not LO,HI"}};
+  for (const auto& c : cases) {
+    EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --random 1 --luma " + c.luma + " --out " +
+                                             out.string(),
+                                         log),
+              2)
+        << c.luma;
+    EXPECT_NE(readText(log).find(c.named), std::string::npos) << readText(log);
+    EXPECT_FALSE(fs::exists(out)) << c.luma;
+  }
+  fs::remove(log);
+}

@@ -31,7 +31,7 @@ namespace {
 const char* kUsage =
     "usage: render_scene --scene SCENE.yaml [--frames N] [--rate HZ] [--bag OUT.bag] [--png-dir DIR]\n"
     "                    [--namespace stereo] [--start-time SECONDS]\n"
-    "       render_scene --random N [--seed S] --out DIR [--size WxH]\n"
+    "       render_scene --random N [--seed S] --out DIR [--size WxH] [--luma LO,HI]\n"
     "  Renders frames 0..N-1 (scene time k/HZ) of SCENE.yaml.\n"
     "  --bag      writes <ns>/left/image_raw, <ns>/left/camera_info, <ns>/right/..., <ns>/ground_truth\n"
     "  --png-dir  writes left_NNNN.png / right_NNNN.png (demosaiced BGR), left.yaml / right.yaml\n"
@@ -40,7 +40,9 @@ const char* kUsage =
     "             seed, 6 digits), DIR/images/<id>.png (left, demosaiced BGR), DIR/annotations/<id>.xml (Pascal\n"
     "             VOC: one <object> per visible red/orange/yellow/green object, <name> = its colour; <difficult>\n"
     "             when under 400 px) and DIR/masks/<id>.png (0 background, k = the XML's k-th <object>).\n"
-    "             Distractors (other colours) are background.\n";
+    "             Distractors (other colours) are background.\n"
+    "  --luma     the mean luma (BT.601, 1-254) each sampled scene is exposed to, drawn from [LO, HI] (default\n"
+    "             30,200: the sampler's range); e.g. 12,40 for dark water.\n";
 
 struct Options {
   std::string scene, bag, png_dir, ns = "stereo", out_dir;
@@ -59,7 +61,7 @@ cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
 }
 
 bool parse(int argc, char** argv, Options& o, std::string& error) {
-  std::string size_given;
+  std::string size_given, luma_given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
@@ -85,6 +87,12 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
           return false;
         }
         size_given = value;
+      } else if (arg == "--luma") {
+        if (!underwater_stereo::tools::parseInterval(value, o.sampler.target_luma)) {
+          error = "--luma: '" + value + "' is not LO,HI";
+          return false;
+        }
+        luma_given = value;
       } else {
         error = "unknown option " + arg;
         return false;
@@ -99,7 +107,10 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
     else if (o.random < 1) error = "--random must be >= 1";
     else if (o.seed < 0) error = "--seed must be >= 0";
     else if (o.out_dir.empty()) error = "--random needs --out DIR";
-    else if (!o.sampler.validate().empty()) error = "--size " + size_given + ": " + o.sampler.validate().front();
+    else if (const auto problems = o.sampler.validate(); !problems.empty()) {
+      const std::string& p = problems.front();
+      error = (p.rfind("target_luma", 0) == 0 ? "--luma " + luma_given : "--size " + size_given) + ": " + p;
+    }
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace underwater_stereo {
@@ -41,6 +42,17 @@ inline bool parseImageSize(const std::string& text, int& width, int& height) {
   }
   width = w;
   height = h;
+  return true;
+}
+
+/// "LO,HI" read strictly (two numbers, nothing after them) into `interval`; false (and `interval` untouched) otherwise.
+inline bool parseInterval(const std::string& text, std::pair<double, double>& interval) {
+  double lo = 0, hi = 0;
+  int used = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%n", &lo, &hi, &used) != 2 || used != static_cast<int>(text.size())) {
+    return false;
+  }
+  interval = {lo, hi};
   return true;
 }
 
