@@ -65,7 +65,10 @@ TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
                {"scene.yaml --seed 3", "--seed goes with --random or --paper-brightness, not with scene files"},
                {"scene.yaml --size 640x400", "--size goes with --random or --paper-brightness, not with scene"},
                {"--random 2 --size 10x10", "--size 10x10: width"},
-               {"--random 2 --size 640x400x3", "--size: '640x400x3' is not WIDTHxHEIGHT"}};
+               {"--random 2 --size 640x400x3", "--size: '640x400x3' is not WIDTHxHEIGHT"},
+               {"--random 2 --luma 40,12", "--luma 40,12: target_luma"},
+               {"--random 2 --luma 12", "--luma: '12' is not LO,HI"},
+               {"--paper-brightness --luma 12,40", "--luma goes with --random, not with --paper-brightness"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;
@@ -136,4 +139,26 @@ TEST(EvaluateDetector, ScenesOneStillSumsUp) {
   ASSERT_EQ(runTool(kEvaluate + " --paper-brightness --seed 1181 --levels 33 --size 640x400", log), 0) << readText(log);
   EXPECT_EQ(readText(log).find("Scenes of seeds"), std::string::npos) << readText(log);
   fs::remove(log);
+}
+
+// --luma exposes every sampled scene to a mean luma in the range given: two scenes at 14-16 both fall in the
+// summary's darkest bin.
+TEST(EvaluateDetector, LumaSetsTheExposureOfTheSampledPairs) {
+  const fs::path log = logFile("luma");
+  const int status = runTool(kEvaluate + " --random 2 --seed 1181 --size 320x200 --luma 14,16", log);
+  const std::string text = readText(log);
+  fs::remove(log);
+  ASSERT_EQ(status, 0) << text;
+  std::map<std::string, int> frames_per_bin;
+  std::stringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    const std::vector<std::string> c = cells(line);
+    if (c.size() > 2 && c[0] == "luma") frames_per_bin[c[1]] = std::stoi(c[2]);
+  }
+  EXPECT_EQ(frames_per_bin["0-40"], 2) << text;
+  for (const auto& [bin, frames] : frames_per_bin) {
+    if (bin != "0-40") {
+      EXPECT_EQ(frames, 0) << bin << "\n" << text;
+    }
+  }
 }

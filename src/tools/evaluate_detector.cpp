@@ -33,7 +33,7 @@ using namespace underwater_stereo;
 
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
-    "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH]\n"
+    "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH] [--luma LO,HI]\n"
     "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check] [--swapped]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--scenes N] [--levels L,L,..]\n"
     "                         [--size WxH]\n"
@@ -49,7 +49,8 @@ const char* kUsage =
     "    (the records learn_checks learns from: each detection with its check features); --swapped: each pair\n"
     "    given the wrong way round (the right image as the left): what a head wired swapped reports (its\n"
     "    detections lie in the right image and are matched to the left one's truth: count them, found and false\n"
-    "    together; the pairs taken for swapped are counted at the end).\n"
+    "    together; the pairs taken for swapped are counted at the end); --luma LO,HI: every scene exposed to a\n"
+    "    mean luma drawn from [LO, HI] instead of the sampler's 30-200 (e.g. 12,40: dark water).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18);\n"
     "    --levels L,L,..: at these mean lumas instead (each in (0, 255)); --scenes N: the scenes of seeds\n"
     "    S..S+N-1, each in its table, then recall and false detections per level over the frames that reached it\n"
@@ -297,6 +298,7 @@ std::vector<Mode> modesOf(const std::string& option) {
       {"--seed", {M::kRandom, M::kPaperBrightness}}, {"--size", {M::kRandom, M::kPaperBrightness}},
       {"--jobs", {M::kRandom}},               {"--json", {M::kRandom}},
       {"--worst", {M::kRandom}},              {"--swapped", {M::kRandom}},
+      {"--luma", {M::kRandom}},
       {"--scenes", {M::kPaperBrightness}},    {"--levels", {M::kPaperBrightness}}};
   const auto it = kModes.find(option);
   return it == kModes.end() ? std::vector<Mode>{} : it->second;
@@ -331,7 +333,7 @@ int main(int argc, char** argv) {
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
   std::vector<std::string> given;  // the options given, to check each against the mode
-  std::string size_given;
+  std::string size_given, luma_given;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -384,6 +386,11 @@ int main(int argc, char** argv) {
         if (!tools::parseImageSize(size_given, sampler.width, sampler.height)) {
           throw std::invalid_argument("--size: '" + size_given + "' is not WIDTHxHEIGHT");
         }
+      } else if (a == "--luma") {
+        luma_given = value();
+        if (!tools::parseInterval(luma_given, sampler.target_luma)) {
+          throw std::invalid_argument("--luma: '" + luma_given + "' is not LO,HI");
+        }
       } else if (!a.empty() && a[0] == '-') {
         throw std::invalid_argument("unknown option " + a);
       } else {
@@ -403,8 +410,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument(option + " goes with " + goes_with + ", not with " + modeName(mode));
     }
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    const std::vector<std::string> problems = sampler.validate();  // only --size sets the sampler
-    if (!problems.empty()) throw std::invalid_argument("--size " + size_given + ": " + problems.front());
+    const std::string problem = tools::samplerProblemAsGiven(sampler.validate(), size_given, luma_given);
+    if (!problem.empty()) throw std::invalid_argument(problem);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
     return 2;
@@ -436,7 +443,8 @@ int main(int argc, char** argv) {
     if (random.pairs > 0) {
       return evaluateRandom(config,
                             config_path + (shape_rules ? " --shape-rules" : "") +
-                                (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : ""),
+                                (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : "") +
+                                (luma_given.empty() ? "" : " --luma " + luma_given),
                             sampler, random);
     }
     if (paper_brightness) {

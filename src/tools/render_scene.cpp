@@ -107,10 +107,7 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
     else if (o.random < 1) error = "--random must be >= 1";
     else if (o.seed < 0) error = "--seed must be >= 0";
     else if (o.out_dir.empty()) error = "--random needs --out DIR";
-    else if (const auto problems = o.sampler.validate(); !problems.empty()) {
-      const std::string& p = problems.front();
-      error = (p.rfind("target_luma", 0) == 0 ? "--luma " + luma_given : "--size " + size_given) + ": " + p;
-    }
+    else error = underwater_stereo::tools::samplerProblemAsGiven(o.sampler.validate(), size_given, luma_given);
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";
