@@ -194,6 +194,44 @@ TEST(Detector, DarkFrameOverTheGateIsSearched) {
   }
 }
 
+// A dark frame (under quality.enhance_below) is searched at dark_search_width_px across where that is coarser than
+// search_scale: the head's 1920x1200 at a quarter; the test scene's 640x400 (480 would be finer), a frame lit
+// above the threshold, a frame searched under kMinSearchSidePx or dark_search_width_px 0 at search_scale.
+TEST(Detector, DarkFramesAreSearchedCoarser) {
+  sim::Scene head = twoBuoysInTheDark();
+  head.rig.width = 1920;
+  head.rig.height = 1200;
+  head.rig.pixel_size_um /= 3;
+  const sim::Renderer dark(head);
+  const sim::RenderedPair pair = dark.render(0.0, 0);
+  const DetectionResult r = Detector(defaultConfig(), dark.calibration()).detect(pair.left, pair.right);
+  ASSERT_TRUE(r.quality.enhanced);
+  EXPECT_EQ(r.search_scale, 0.25);
+  ASSERT_EQ(r.objects.size(), 2U) << "both buoys found at a quarter";
+  for (const auto& gt : pair.ground_truth) {
+    const auto d = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& o) { return o.colour == gt.colour; });
+    ASSERT_NE(d, r.objects.end()) << gt.name;
+    EXPECT_LT((d->position_m - gt.centre_left_m).norm(), 0.1 * gt.range_m) << gt.name;
+  }
+  DetectorConfig off = defaultConfig();
+  off.dark_search_width_px = 0;
+  EXPECT_EQ(Detector(off, dark.calibration()).detect(pair.left, pair.right).search_scale, 0.5);
+
+  const sim::Renderer small(twoBuoysInTheDark());
+  EXPECT_EQ(Detector(defaultConfig(), small.calibration()).detect(small.render(0.0, 0).left, small.render(0.0, 0).right)
+                .search_scale,
+            0.5);
+  const sim::Renderer lit(twoBuoys());
+  const DetectionResult bright =
+      Detector(defaultConfig(), lit.calibration()).detect(lit.render(0.0, 0).left, lit.render(0.0, 0).right);
+  EXPECT_FALSE(bright.quality.enhanced);
+  EXPECT_EQ(bright.search_scale, 0.5);
+  // 2D: a dark 1920x60 frame at a quarter would be 15 px high: searched at 0.5; 1920x64 (16 px): at a quarter.
+  const Detector two_d(defaultConfig());
+  EXPECT_EQ(two_d.detect2d(cv::Mat(60, 1920, CV_8UC3, cv::Scalar::all(15))).search_scale, 0.5);
+  EXPECT_EQ(two_d.detect2d(cv::Mat(64, 1920, CV_8UC3, cv::Scalar::all(15))).search_scale, 0.25);
+}
+
 TEST(Detector, SpoiledFrameIsReportedNotSearched) {
   const sim::Renderer renderer(twoBuoysInTheDark());
   DetectorConfig paper_gate = defaultConfig();

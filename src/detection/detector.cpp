@@ -38,6 +38,9 @@ std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, 
 /// 2D stages shared by detect() and detect2d(): quality, colour masks, candidates.
 struct FrontEnd {
   QualityReport quality;
+  double scale = 1.0;                ///< the frame was searched scaled by this (see ScaledFrame)
+  const DetectorConfig* search = nullptr;  ///< the settings scaled for it: the detector's, or *dark_search
+  std::shared_ptr<const DetectorConfig> dark_search;  ///< a dark frame's (its scale follows the frame's width)
   cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
   cv::Scalar gains{1.0, 1.0, 1.0};  ///< the grey-world gains it was balanced with (1: grey_world off)
   int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
@@ -80,13 +83,12 @@ Candidate toFullResolution(Candidate c, double scale, const cv::Size& full) {
 /// The right frame's mask of all designated colours over `region` (full resolution, soft edges), searched
 /// exactly as the left frame was (scale, contrast enhancement, the left's gains and saturation floors), so
 /// the two silhouettes are cut alike.
-cv::Mat rightColourMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const DetectorConfig& config,
-                        const DetectorConfig& search) {
-  cv::Mat small = scaledDown(right, region, config.search_scale);
+cv::Mat rightColourMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const DetectorConfig& config) {
+  cv::Mat small = scaledDown(right, region, left.scale);
   if (left.quality.enhanced) small = enhanceContrast(small, config.quality);
   if (config.colours.grey_world) small = applyGains(small, left.gains);
-  const cv::Mat any = colourMasks(small, search.colours, left.saturation_median).any;
-  if (config.search_scale >= 1.0) return any;
+  const cv::Mat any = colourMasks(small, left.search->colours, left.saturation_median).any;
+  if (left.scale >= 1.0) return any;
   cv::Mat full;
   cv::resize(any, full, region.size(), 0, 0, cv::INTER_LINEAR);
   return full;
@@ -111,9 +113,9 @@ cv::Mat atFullResolution(const cv::Mat& mask, const cv::Rect& region, double sea
 /// The right frame's salient pixels over `region` (full resolution, soft edges), cut at the candidate's
 /// saliency and level against the left frame's water and spread, as the left frame's are (leftSalientMask).
 cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const FrontEnd& left, const Candidate& c,
-                         const DetectorConfig& config, const DetectorConfig& search) {
-  const cv::Mat small = blurredForSearch(scaledDown(right, region, config.search_scale), search);
-  const double k = config.search_scale;
+                         const DetectorConfig& config) {
+  const double k = left.scale;
+  const cv::Mat small = blurredForSearch(scaledDown(right, region, k), *left.search);
   const cv::Mat& left_water = left.contrast.water;
   const cv::Rect in_water = cv::Rect(static_cast<int>(std::lround(region.x * k)), static_cast<int>(std::lround(region.y * k)),
                                      small.cols, small.rows) & cv::Rect(cv::Point(), left_water.size());
@@ -124,14 +126,15 @@ cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const Fr
     cv::resize(left_water(in_water), water, small.size(), 0, 0, cv::INTER_LINEAR);
   }
   const WaterContrast contrast = contrastAgainst(small, water, left.contrast.stats, config.learned.water);
-  return atFullResolution(salientMask(contrast, c.saliency_kind, c.saliency_level), region, config.search_scale);
+  return atFullResolution(salientMask(contrast, c.saliency_kind, c.saliency_level), region, k);
 }
 
 /// The left frame's salient pixels over the candidate's roi (full resolution, soft edges), cut at its saliency
 /// and level from the saliency the search computed: pixel by pixel, as the right frame's are (the candidate's
 /// own mask is one filled region). `region`: colourSearchRegion of the roi, so the cut inside it is the
 /// whole frame's.
-cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect& region, double search_scale) {
+cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect& region) {
+  const double search_scale = left.scale;
   const cv::Size searched = left.contrast.water.size();
   const cv::Rect band = cv::Rect(static_cast<int>(std::lround(region.x * search_scale)),
                                  static_cast<int>(std::lround(region.y * search_scale)),
@@ -143,13 +146,17 @@ cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect
 }
 
 /// `region` grown by what the colour search's blur and morphology reach (so the mask inside it is the
-/// whole frame's), on even pixels (the half-size search's grid), inside `frame`.
-cv::Rect colourSearchRegion(const cv::Rect& region, const DetectorConfig& config, const DetectorConfig& search,
-                            const cv::Size& frame) {
-  const ColourMaskConfig& c = search.colours;
-  const int reach = static_cast<int>(std::ceil((c.blur_px + c.open_kernel_px + c.close_kernel_px + 2) / config.search_scale));
-  const int x0 = std::max(0, (region.x - reach) & ~1), y0 = std::max(0, (region.y - reach) & ~1);
-  const int x1 = std::min(frame.width, ((region.br().x + reach + 1) & ~1)), y1 = std::min(frame.height, ((region.br().y + reach + 1) & ~1));
+/// whole frame's), on the searched image's grid (even pixels at half size, every fourth at quarter size: the
+/// right frame's mask then lies on the left one's pixels), inside `frame`; `left`: how the frame was searched.
+cv::Rect colourSearchRegion(const cv::Rect& region, const FrontEnd& left, const cv::Size& frame) {
+  const ColourMaskConfig& c = left.search->colours;
+  const int reach = static_cast<int>(std::ceil((c.blur_px + c.open_kernel_px + c.close_kernel_px + 2) / left.scale));
+  const long cells = std::lround(1.0 / left.scale);
+  const int grid = std::abs(1.0 / left.scale - cells) < 1e-9 ? static_cast<int>(std::max(2L, cells)) : 2;
+  auto down = [grid](int x) { return x / grid * grid; };
+  const int x0 = std::max(0, down(region.x - reach)), y0 = std::max(0, down(region.y - reach));
+  const int x1 = std::min(frame.width, down(region.br().x + reach + grid - 1)),
+            y1 = std::min(frame.height, down(region.br().y + reach + grid - 1));
   return x1 > x0 && y1 > y0 ? cv::Rect(x0, y0, x1 - x0, y1 - y0) : cv::Rect();
 }
 
@@ -214,28 +221,61 @@ double objectShare(const ColourModel& check, const std::vector<float>& check_fea
   return 1.0 - v.shares.front();  // shares: background first
 }
 
-/// Quality and candidates of `frame`; `for_check`: the learned search passes what the check after stereo is to judge.
+/// A frame as the 2D search takes it: its quality (judged at search_scale), the scale it is searched at and the
+/// settings scaled for that, and the frame at that scale.
+struct ScaledFrame {
+  QualityReport quality;
+  double scale = 1.0;
+  const DetectorConfig* search = nullptr;  ///< `search` as given, or *dark_search
+  std::shared_ptr<const DetectorConfig> dark_search;
+  cv::Mat small;
+};
+
+/// `frame` scaled for the search (`search`: the settings scaled for search_scale). The learned search takes a dark
+/// frame (quality.enhanced: usable and darker than quality.enhance_below) at dark_search_width_px across, when that
+/// is coarser than search_scale and the searched image keeps kMinSearchSidePx per side.
+ScaledFrame scaledForSearch(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search) {
+  ScaledFrame out{{}, config.search_scale, &search, nullptr, {}};
+  const cv::Rect whole(cv::Point(), frame.size());
+  out.small = scaledDown(frame, whole, config.search_scale);
+  out.quality = assessQuality(out.small, config.quality);
+  const double dark = static_cast<double>(config.dark_search_width_px) / frame.size().width;
+  if (config.candidates.source == ContourSource::kLearned && out.quality.enhanced && dark < config.search_scale &&
+      std::min(frame.size().width, frame.size().height) * dark >= kMinSearchSidePx) {
+    out.scale = dark;
+    out.dark_search = std::make_shared<const DetectorConfig>(scaledForSearch(config, dark));
+    out.search = out.dark_search.get();
+    out.small = scaledDown(frame, whole, dark);
+  }
+  return out;
+}
+
+/// Quality and candidates of `frame`; `search`: the settings scaled for search_scale; `for_check`: the learned
+/// search passes what the check after stereo is to judge.
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
                      Stopwatch& watch, bool for_check) {
   FrontEnd out;
-  const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config.search_scale);
-  out.quality = assessQuality(small, config.quality);
+  const ScaledFrame scaled = scaledForSearch(frame, config, search);
+  const cv::Mat& small = scaled.small;
+  out.quality = scaled.quality;
+  out.scale = scaled.scale;
+  out.search = scaled.search;
+  out.dark_search = scaled.dark_search;
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
   if (config.candidates.source == ContourSource::kLearned) {
     // Contrast with the water is measured as a ratio normalised by the frame's own spread: no contrast
     // enhancement or white balance before it.
-    out.searched = blurredForSearch(small, search);
-    LearnedSearch found =
-        findLearnedCandidates(out.searched, config.colours.classes, config.learned, search.candidates, config.pair_threads,
-                              for_check);
+    out.searched = blurredForSearch(small, *out.search);
+    LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, config.learned,
+                                                out.search->candidates, config.pair_threads, for_check);
     t.colour_ms = watch.lapMs();
     out.contrast = std::move(found.contrast);
     for (Candidate& c : found.candidates) {
-      out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, frame.size()));
+      out.candidates.push_back(toFullResolution(std::move(c), out.scale, frame.size()));
     }
     for (Rejection& r : found.rejected) {
-      r.roi = scaledRect(r.roi, 1.0 / config.search_scale);
+      r.roi = scaledRect(r.roi, 1.0 / out.scale);
       out.rejected.push_back(std::move(r));
     }
     t.contours_ms = watch.lapMs();
@@ -246,11 +286,11 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     out.gains = greyWorldGains(out.searched);
     out.searched = applyGains(out.searched, out.gains);
   }
-  const ColourMasks masks = colourMasks(out.searched, search.colours);
+  const ColourMasks masks = colourMasks(out.searched, out.search->colours);
   out.saturation_median = masks.saturation_median;
   t.colour_ms = watch.lapMs();
-  for (Candidate& c : findCandidates(out.searched, masks, config.colours.classes, search.candidates)) {
-    out.candidates.push_back(toFullResolution(std::move(c), config.search_scale, frame.size()));
+  for (Candidate& c : findCandidates(out.searched, masks, config.colours.classes, out.search->candidates)) {
+    out.candidates.push_back(toFullResolution(std::move(c), out.scale, frame.size()));
   }
   t.contours_ms = watch.lapMs();
   return out;
@@ -272,13 +312,13 @@ Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const cv::Size
 }  // namespace
 
 Detector::Detector(const DetectorConfig& config, const StereoCalibration& calibration)
-    : config_(config), search_config_(scaledForSearch(config)) {
+    : config_(config), search_config_(scaledForSearch(config, config.search_scale)) {
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   matcher_ = std::make_unique<RoiStereoMatcher>(calibration, config_.stereo);
 }
 
-Detector::Detector(const DetectorConfig& config) : config_(config), search_config_(scaledForSearch(config)) {
+Detector::Detector(const DetectorConfig& config) : config_(config), search_config_(scaledForSearch(config, config.search_scale)) {
   const auto problems = config_.validate();
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
 }
@@ -287,12 +327,12 @@ Detector::~Detector() = default;
 
 std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::proposals: empty frame");
-  const cv::Mat small = scaledDown(frame, cv::Rect(cv::Point(), frame.size()), config_.search_scale);
-  if (assessQuality(small, config_.quality).spoiled()) return {};
-  const cv::Mat searched = blurredForSearch(small, search_config_);
+  const ScaledFrame scaled = scaledForSearch(frame, config_, search_config_);
+  if (scaled.quality.spoiled()) return {};
+  const cv::Mat searched = blurredForSearch(scaled.small, *scaled.search);
   std::vector<BlobProposal> out =
-      proposeLearned(searched, config_.learned, search_config_.candidates, config_.pair_threads).regions;
-  for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / config_.search_scale);
+      proposeLearned(searched, config_.learned, scaled.search->candidates, config_.pair_threads).regions;
+  for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / scaled.scale);
   return out;
 }
 
@@ -303,6 +343,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   Stopwatch watch, total;
   const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch, false);
   result.quality = front.quality;
+  result.search_scale = front.scale;
   result.rejected = front.rejected;
   for (const Candidate& c : front.candidates) result.objects.push_back(describe2d(c, frame.bgr(c.roi), frame.size(), config_));
   result.timings.total_ms = total.lapMs();
@@ -397,8 +438,10 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   }
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
+  const FrontEnd front =
+      runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
   result.quality = front.quality;
+  result.search_scale = front.scale;
   result.rejected = front.rejected;
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
@@ -409,7 +452,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   const cv::Rect whole_frame(cv::Point(), right.size());
   const bool learned = config_.candidates.source == ContourSource::kLearned;
   const cv::Mat whole_right_colour = front.quality.enhanced && !learned
-                                         ? rightColourMask(right, whole_frame, front, config_, search_config_)
+                                         ? rightColourMask(right, whole_frame, front, config_)
                                          : cv::Mat();
   result.timings.colour_ms += watch.lapMs();
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
@@ -427,10 +470,10 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     cv::Point origin;
     if (right_colour.empty()) {
       Stopwatch colour;
-      const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), config_, search_config_, right.size());
+      const cv::Rect region = colourSearchRegion(matcher_->rightColourRegion(c.roi), front, right.size());
       if (!region.empty()) {
-        right_colour = learned ? rightSalientMask(right, region, front, c, config_, search_config_)
-                               : rightColourMask(right, region, front, config_, search_config_);
+        right_colour = learned ? rightSalientMask(right, region, front, c, config_)
+                               : rightColourMask(right, region, front, config_);
         origin = region.tl();
       }
       t.colour_ms = colour.lapMs();
@@ -438,8 +481,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     cv::Mat left_colour;
     if (learned && !right_colour.empty()) {
       Stopwatch colour;
-      left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, config_, search_config_, left.size()),
-                                    config_.search_scale);
+      left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
     return measure(c, left, right, right_colour, origin, left_colour, t, rejected, pair_order);

@@ -10,6 +10,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "underwater_stereo/common/image_size.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detection_check.h"
 
@@ -77,7 +78,8 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_REAL(quality.too_dark_below)},
       {"quality", "too_bright_above", 1, 255, "too_bright_above", "Mean luma over which a frame is spoiled",
        UWS_REAL(quality.too_bright_above)},
-      {"quality", "enhance_below", 0, 255, "enhance_below", "Usable frames darker than this get CLAHE before the search",
+      {"quality", "enhance_below", 0, 255, "enhance_below",
+       "Usable frames darker than this are dark: CLAHE before an HSV search, the learned one coarser",
        UWS_REAL(quality.enhance_below)},
       {"quality", "dark_pixel_value", 0, 254, nullptr, "HSV V (0-255) under which a pixel counts as dark",
        UWS_INT(quality.dark_pixel_value)},
@@ -141,6 +143,9 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_INT(min_cluster_points)},
       {"", "search_scale", 0.1, 1, nullptr, "The 2D stages run on the frame scaled by this",
        UWS_REAL(search_scale)},
+      {"", "dark_search_width_px", 0, kMaxImageSidePx, nullptr,
+       "Learned source: frames darker than quality.enhance_below are searched at this width (0: off)",
+       UWS_INT(dark_search_width_px)},
       {"", "pair_threads", 1, 16, nullptr, "Threads working on one pair (its 2D search, its objects)",
        UWS_INT(pair_threads)},
   };
@@ -204,7 +209,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   YamlFields f(problems);
   DetectorConfig c;
   f.onlyKeys(root, "", {"quality", "colours", "grey_world", "mask", "candidates", "colour_model", "stereo", "cluster",
-                        "shape", "min_cluster_points", "search_scale", "pair_threads"});
+                        "shape", "min_cluster_points", "search_scale", "dark_search_width_px", "pair_threads"});
   if (!root.IsMap()) throw std::invalid_argument(joinProblems("invalid detector configuration", problems));
   if (const YAML::Node q = root["quality"]) readTunables(f, q, "quality", c);
   std::vector<std::string> without_hue;
@@ -325,9 +330,9 @@ DetectorConfig loadDetectorConfigFile(const std::string& path, const std::functi
   });
 }
 
-DetectorConfig scaledForSearch(const DetectorConfig& config) {
+DetectorConfig scaledForSearch(const DetectorConfig& config, double scale) {
   DetectorConfig s = config;
-  const double k = config.search_scale;
+  const double k = scale;
   if (k >= 1.0) return s;
   auto scaled = [k](int px) { return px > 1 ? std::max(2, static_cast<int>(std::lround(px * k))) : px; };
   auto odd = [k](int px) { return px > 1 ? std::max(3, static_cast<int>(std::lround(px * k)) | 1) : px; };

@@ -60,6 +60,8 @@ struct DetectionResult {
   /// The pair looks as if its left and right images came swapped (stereo_order.h, PairOrder): none of its
   /// objects is reported; those that would have been are rejected as RejectionStage::kLeftRightSwapped.
   bool looks_swapped = false;
+  /// The scale the 2D search ran at: search_scale, or a dark frame's (dark_search_width_px, learned source).
+  double search_scale = 0.0;
   StageTimings timings;
 };
 
@@ -96,7 +98,7 @@ class Detector {
                                    ObjectOrderEvidence* order = nullptr) const;
 
   DetectorConfig config_;
-  DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch)
+  DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch at search_scale)
   std::unique_ptr<RoiStereoMatcher> matcher_;
 };
 

@@ -33,6 +33,11 @@ struct DetectorConfig {
   /// pixels, 4x faster); regions come back at full resolution with soft edges, and stereo runs at full
   /// resolution. Pixel sizes in the configuration (areas, kernels, blur) are full-resolution values.
   double search_scale = 0.5;
+  /// [px] Learned source: a usable frame darker than quality.enhance_below is searched at this width instead
+  /// (480 for the head's 1920x1200: a quarter, each searched pixel averaging 4x4 of the frame's, where sensor noise
+  /// drowns the objects' contrast at 2x2; docs/accuracy.md, "Dark frames searched coarser"), never finer than
+  /// search_scale and while the searched image keeps kMinSearchSidePx per side. 0: off.
+  int dark_search_width_px = 480;
   /// Threads working on one pair: the calling one and up to pair_threads - 1 of the detector's own (1: the
   /// calling thread alone). The 2D search's passes and the pair's objects are shared out over them, with the
   /// same result whatever the number. Not OpenCV's pool, which the nodelet keeps single-threaded: a second core
@@ -79,8 +84,8 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
 /// @throw std::invalid_argument when the file cannot be read or is invalid.
 DetectorConfig loadDetectorConfigFile(const std::string& path, const std::function<void(YAML::Node&)>& edit = {});
 
-/// The colour and candidate settings for a frame scaled by config.search_scale: kernels, blur and areas
-/// scaled with it (blur kept odd).
-DetectorConfig scaledForSearch(const DetectorConfig& config);
+/// The colour and candidate settings for a frame scaled by `scale` (config.search_scale, or a dark frame's
+/// scale): kernels, blur and areas scaled with it (blur kept odd).
+DetectorConfig scaledForSearch(const DetectorConfig& config, double scale);
 
 }  // namespace underwater_stereo

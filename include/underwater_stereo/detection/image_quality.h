@@ -16,7 +16,9 @@ struct QualityConfig {
   /// half of the objects at 10-18: docs/accuracy.md, "Dark and bright frames").
   double too_dark_below = 10.0;
   double too_bright_above = 240.0;   ///< mean luma over which a frame is spoiled (paper: 200; the same section)
-  double enhance_below = 40.0;       ///< usable frames darker than this are contrast-normalised (CLAHE on V)
+  double enhance_below = 40.0;       ///< usable frames darker than this are dark: contrast-normalised (CLAHE on V)
+                                     ///< before an HSV search, searched coarser by the learned one
+                                     ///< (DetectorConfig::dark_search_width_px)
   int dark_pixel_value = 30;         ///< HSV V (0-255) under which a pixel counts as dark
   int bright_pixel_value = 240;      ///< HSV V over which a pixel counts as bright (saturated)
   double clahe_clip_limit = 3.0;     ///< CLAHE contrast limit
