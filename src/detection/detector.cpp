@@ -38,7 +38,7 @@ std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, 
 /// 2D stages shared by detect() and detect2d(): quality, colour masks, candidates.
 struct FrontEnd {
   QualityReport quality;
-  double scale = 1.0;                ///< the frame was searched scaled by this (see ScaledFrame)
+  double scale = 1.0;                ///< the frame was searched scaled by this (frameForSearch)
   const DetectorConfig* search = nullptr;  ///< the settings scaled for it: the detector's, or *dark_search
   std::shared_ptr<const DetectorConfig> dark_search;  ///< a dark frame's (its scale follows the frame's width)
   cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
@@ -234,7 +234,7 @@ struct ScaledFrame {
 /// `frame` scaled for the search (`search`: the settings scaled for search_scale). The learned search takes a dark
 /// frame (quality.enhanced: usable and darker than quality.enhance_below) at dark_search_width_px across, when that
 /// is coarser than search_scale and the searched image keeps kMinSearchSidePx per side.
-ScaledFrame scaledForSearch(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search) {
+ScaledFrame frameForSearch(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search) {
   ScaledFrame out{{}, config.search_scale, &search, nullptr, {}};
   const cv::Rect whole(cv::Point(), frame.size());
   out.small = scaledDown(frame, whole, config.search_scale);
@@ -255,7 +255,7 @@ ScaledFrame scaledForSearch(const RawFrame& frame, const DetectorConfig& config,
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
                      Stopwatch& watch, bool for_check) {
   FrontEnd out;
-  const ScaledFrame scaled = scaledForSearch(frame, config, search);
+  const ScaledFrame scaled = frameForSearch(frame, config, search);
   const cv::Mat& small = scaled.small;
   out.quality = scaled.quality;
   out.scale = scaled.scale;
@@ -327,7 +327,7 @@ Detector::~Detector() = default;
 
 std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::proposals: empty frame");
-  const ScaledFrame scaled = scaledForSearch(frame, config_, search_config_);
+  const ScaledFrame scaled = frameForSearch(frame, config_, search_config_);
   if (scaled.quality.spoiled()) return {};
   const cv::Mat searched = blurredForSearch(scaled.small, *scaled.search);
   std::vector<BlobProposal> out =
