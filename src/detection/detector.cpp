@@ -37,8 +37,8 @@ std::vector<Eigen::Vector3d> contourRays(const std::vector<cv::Point>& contour, 
 
 /// 2D stages shared by detect() and detect2d(): quality, colour masks, candidates.
 struct FrontEnd {
-  QualityReport quality;
-  double scale = 1.0;                ///< the frame was searched scaled by this (frameForSearch)
+  QualityReport quality;             ///< judged at search_scale
+  double scale = 1.0;                ///< the frame was searched scaled by this (scaleForSearch)
   const DetectorConfig* search = nullptr;  ///< the settings scaled for it: the detector's, or *dark_search
   std::shared_ptr<const DetectorConfig> dark_search;  ///< a dark frame's (its scale follows the frame's width)
   cv::Mat searched;  ///< the image the colours were searched in (scaled, enhanced, white-balanced)
@@ -221,33 +221,25 @@ double objectShare(const ColourModel& check, const std::vector<float>& check_fea
   return 1.0 - v.shares.front();  // shares: background first
 }
 
-/// A frame as the 2D search takes it: its quality (judged at search_scale), the scale it is searched at and the
-/// settings scaled for that, and the frame at that scale.
-struct ScaledFrame {
-  QualityReport quality;
-  double scale = 1.0;
-  const DetectorConfig* search = nullptr;  ///< `search` as given, or *dark_search
-  std::shared_ptr<const DetectorConfig> dark_search;
-  cv::Mat small;
-};
-
-/// `frame` scaled for the search (`search`: the settings scaled for search_scale). The learned search takes a dark
-/// frame (quality.enhanced: usable and darker than quality.enhance_below) at dark_search_width_px across, when that
-/// is coarser than search_scale and the searched image keeps kMinSearchSidePx per side.
-ScaledFrame frameForSearch(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search) {
-  ScaledFrame out{{}, config.search_scale, &search, nullptr, {}};
+/// `frame` scaled for the search; sets `out`'s quality, scale and settings (`search`: those scaled for
+/// search_scale). The learned search takes a dark frame (quality.enhanced: usable and darker than
+/// quality.enhance_below) at dark_search_width_px across, when that is coarser than search_scale and the searched
+/// image keeps kMinSearchSidePx per side.
+cv::Mat scaleForSearch(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, FrontEnd& out) {
   const cv::Rect whole(cv::Point(), frame.size());
-  out.small = scaledDown(frame, whole, config.search_scale);
-  out.quality = assessQuality(out.small, config.quality);
+  const cv::Mat small = scaledDown(frame, whole, config.search_scale);
+  out.quality = assessQuality(small, config.quality);
+  out.scale = config.search_scale;
+  out.search = &search;
   const double dark = static_cast<double>(config.dark_search_width_px) / frame.size().width;
-  if (config.candidates.source == ContourSource::kLearned && out.quality.enhanced && dark < config.search_scale &&
-      std::min(frame.size().width, frame.size().height) * dark >= kMinSearchSidePx) {
-    out.scale = dark;
-    out.dark_search = std::make_shared<const DetectorConfig>(scaledForSearch(config, dark));
-    out.search = out.dark_search.get();
-    out.small = scaledDown(frame, whole, dark);
+  if (config.candidates.source != ContourSource::kLearned || !out.quality.enhanced || dark >= config.search_scale ||
+      std::min(frame.size().width, frame.size().height) * dark < kMinSearchSidePx) {
+    return small;
   }
-  return out;
+  out.scale = dark;
+  out.dark_search = std::make_shared<const DetectorConfig>(scaledForSearch(config, dark));
+  out.search = out.dark_search.get();
+  return scaledDown(frame, whole, dark);
 }
 
 /// Quality and candidates of `frame`; `search`: the settings scaled for search_scale; `for_check`: the learned
@@ -255,12 +247,7 @@ ScaledFrame frameForSearch(const RawFrame& frame, const DetectorConfig& config, 
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
                      Stopwatch& watch, bool for_check) {
   FrontEnd out;
-  const ScaledFrame scaled = frameForSearch(frame, config, search);
-  const cv::Mat& small = scaled.small;
-  out.quality = scaled.quality;
-  out.scale = scaled.scale;
-  out.search = scaled.search;
-  out.dark_search = scaled.dark_search;
+  const cv::Mat small = scaleForSearch(frame, config, search, out);
   t.quality_ms = watch.lapMs();
   if (out.quality.spoiled()) return out;
   if (config.candidates.source == ContourSource::kLearned) {
@@ -327,9 +314,10 @@ Detector::~Detector() = default;
 
 std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::proposals: empty frame");
-  const ScaledFrame scaled = frameForSearch(frame, config_, search_config_);
+  FrontEnd scaled;
+  const cv::Mat small = scaleForSearch(frame, config_, search_config_, scaled);
   if (scaled.quality.spoiled()) return {};
-  const cv::Mat searched = blurredForSearch(scaled.small, *scaled.search);
+  const cv::Mat searched = blurredForSearch(small, *scaled.search);
   std::vector<BlobProposal> out =
       proposeLearned(searched, config_.learned, scaled.search->candidates, config_.pair_threads).regions;
   for (BlobProposal& b : out) b.roi = scaledRect(b.roi, 1.0 / scaled.scale);
