@@ -20,6 +20,7 @@
 
 #include "brightness_sweep.h"
 #include "random_evaluation.h"
+#include "sampler_options.h"
 #include "tool_helpers.h"
 #include <yaml-cpp/yaml.h>
 
@@ -333,7 +334,7 @@ int main(int argc, char** argv) {
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
   std::vector<std::string> given;  // the options given, to check each against the mode
-  std::string size_given, luma_given;
+  tools::SamplerOptions sampler_given;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -381,16 +382,9 @@ int main(int argc, char** argv) {
       else if (a == "--worst") {
         random.worst = static_cast<std::size_t>(integer(1, 100000));
         random.worst_dir = value();
-      } else if (a == "--size") {
-        size_given = value();
-        if (!tools::parseImageSize(size_given, sampler.width, sampler.height)) {
-          throw std::invalid_argument("--size: '" + size_given + "' is not WIDTHxHEIGHT");
-        }
-      } else if (a == "--luma") {
-        luma_given = value();
-        if (!tools::parseInterval(luma_given, sampler.target_luma)) {
-          throw std::invalid_argument("--luma: '" + luma_given + "' is not LO,HI");
-        }
+      } else if (tools::SamplerOptions::takes(a)) {
+        const std::string problem = sampler_given.read(a, value(), sampler);
+        if (!problem.empty()) throw std::invalid_argument(problem);
       } else if (!a.empty() && a[0] == '-') {
         throw std::invalid_argument("unknown option " + a);
       } else {
@@ -410,7 +404,7 @@ int main(int argc, char** argv) {
       throw std::invalid_argument(option + " goes with " + goes_with + ", not with " + modeName(mode));
     }
     if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
-    const std::string problem = tools::samplerProblemAsGiven(sampler.validate(), size_given, luma_given);
+    const std::string problem = sampler_given.problem(sampler);
     if (!problem.empty()) throw std::invalid_argument(problem);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
@@ -444,7 +438,7 @@ int main(int argc, char** argv) {
       return evaluateRandom(config,
                             config_path + (shape_rules ? " --shape-rules" : "") +
                                 (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : "") +
-                                (luma_given.empty() ? "" : " --luma " + luma_given),
+                                (sampler_given.luma.empty() ? "" : " --luma " + sampler_given.luma),
                             sampler, random);
     }
     if (paper_brightness) {

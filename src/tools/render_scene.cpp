@@ -24,7 +24,7 @@
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
 #include "underwater_stereo/sim/voc_labels.h"
-#include "tool_helpers.h"
+#include "sampler_options.h"
 
 namespace {
 
@@ -61,7 +61,7 @@ cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
 }
 
 bool parse(int argc, char** argv, Options& o, std::string& error) {
-  std::string size_given, luma_given;
+  underwater_stereo::tools::SamplerOptions sampler_given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
@@ -81,18 +81,9 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       else if (arg == "--random") o.random = std::stoi(value);
       else if (arg == "--seed") o.seed = std::stoll(value);
       else if (arg == "--out") o.out_dir = value;
-      else if (arg == "--size") {
-        if (!underwater_stereo::tools::parseImageSize(value, o.sampler.width, o.sampler.height)) {
-          error = "--size: '" + value + "' is not WIDTHxHEIGHT";
-          return false;
-        }
-        size_given = value;
-      } else if (arg == "--luma") {
-        if (!underwater_stereo::tools::parseInterval(value, o.sampler.target_luma)) {
-          error = "--luma: '" + value + "' is not LO,HI";
-          return false;
-        }
-        luma_given = value;
+      else if (sampler_given.takes(arg)) {
+        error = sampler_given.read(arg, value, o.sampler);
+        if (!error.empty()) return false;
       } else {
         error = "unknown option " + arg;
         return false;
@@ -107,7 +98,7 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
     else if (o.random < 1) error = "--random must be >= 1";
     else if (o.seed < 0) error = "--seed must be >= 0";
     else if (o.out_dir.empty()) error = "--random needs --out DIR";
-    else error = underwater_stereo::tools::samplerProblemAsGiven(o.sampler.validate(), size_given, luma_given);
+    else error = sampler_given.problem(o.sampler);
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";

@@ -56,15 +56,6 @@ inline bool parseInterval(const std::string& text, std::pair<double, double>& in
   return true;
 }
 
-/// The first of a scene sampler's problems (SceneSamplerConfig::validate) named as the option that set it: "--luma
-/// LO,HI: ..." for the target luma, "--size WxH: ..." otherwise (only these two options set the sampler); "" when none.
-inline std::string samplerProblemAsGiven(const std::vector<std::string>& problems, const std::string& size_given,
-                                         const std::string& luma_given) {
-  if (problems.empty()) return "";
-  const std::string& p = problems.front();
-  return (p.rfind("target_luma", 0) == 0 ? "--luma " + luma_given : "--size " + size_given) + ": " + p;
-}
-
 /// `value` with `digits` decimals, as a table cell.
 inline std::string fixedCell(double value, int digits) {
   std::ostringstream s;
