@@ -405,8 +405,9 @@ TEST_F(HandFedDetector, BadInputIsReportedAndSkippedThenAValidPairIsProcessed) {
       listener.diagnostics.clear();
     }
     stamp += ros::Duration(1.0);
-    for (int k = 1; k < c.pairs; ++k) {
+    for (int k = 1; k < c.pairs; ++k) {  // each processed before the next: none dropped while the workers are busy
       pub.send(l, li, r, ri, stamp, c.right_offset_s);
+      EXPECT_TRUE(published(stamp)) << c.name << ": pair " << k << " of " << c.pairs << " was not processed";
       stamp += ros::Duration(0.1);
     }
     pub.send(l, li, r, ri, stamp, c.right_offset_s);
@@ -453,6 +454,34 @@ TEST_F(HandFedDetector, BadInputOfMonoPairsWarnsThatNoColourCanBeFound) {
   pub.send(left, left_info, right, right_info, stamp);
   EXPECT_FALSE(diagnosed(diagnostic_msgs::DiagnosticStatus::OK, "detecting", 15.0).empty())
       << "the diagnostic did not return to detecting after a colour pair";
+}
+
+// A usable frame darker than quality.enhance_below is searched at dark_search_width_px across (a quarter of
+// 1920x1200): the diagnostic says so in its summary, with the scale and a count of such pairs.
+TEST_F(HandFedDetector, DarkPairsAreSaidToBeSearchedCoarser) {
+  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/config/scenes/pool_dark.yaml");  // mean luma ~27
+  scene.sensor.encoding = "bgr8";
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair dark = renderer.render(0, 0);
+  {
+    std::lock_guard<std::mutex> lock(listener.mutex);
+    listener.diagnostics.clear();
+  }
+  const ros::Time stamp(4000.0);
+  pub.send(*cv_bridge::CvImage(std_msgs::Header(), "bgr8", dark.left).toImageMsg(),
+           ros_glue::toCameraInfo(renderer.calibration().left),
+           *cv_bridge::CvImage(std_msgs::Header(), "bgr8", dark.right).toImageMsg(),
+           ros_glue::toCameraInfo(renderer.calibration().right), stamp);
+  ASSERT_TRUE(published(stamp)) << "the dark pair was not processed";
+  EXPECT_FALSE(diagnosed(diagnostic_msgs::DiagnosticStatus::OK, "searched coarser, at 0.25 of full size", 15.0).empty())
+      << "no diagnostic saying that the dark pair was searched at a quarter";
+  std::lock_guard<std::mutex> lock(listener.mutex);
+  const auto said = std::find_if(listener.diagnostics.rbegin(), listener.diagnostics.rend(), [](const auto& d) {
+    return d.message.find("searched coarser") != std::string::npos;
+  });
+  ASSERT_NE(said, listener.diagnostics.rend());
+  EXPECT_EQ(diagnosticValue(*said, "search scale"), "0.25");
+  EXPECT_EQ(diagnosticValue(*said, "pairs searched coarser (dark)"), "1");
 }
 
 // Exact sync (detector_exact_sync.test): a valid calibration that changes its distortion vector's length
