@@ -350,6 +350,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     for (const Rejection& r : result.rejected) ++rejected_by_stage_[static_cast<int>(r.stage)];
     last_quality_ = result.quality;
+    last_search_scale_ = result.search_scale;
+    if (result.search_scale < search_scale_) ++searched_coarser_;
     last_without_colour_ = !carriesColour(done.input.left.layout());
     last_processing_ms_ = (ros::WallTime::now() - done.start).toSec() * 1000.0;
     max_processing_ms_ = std::max(max_processing_ms_, last_processing_ms_);
@@ -391,6 +393,10 @@ class DetectorNodelet : public nodelet::Nodelet {
                    "a Bayer pixel format, bgr8 or rgb8)");
     } else if (last_quality_.spoiled()) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames spoiled: " + qualityStatusName(last_quality_.status));
+    } else if (last_search_scale_ > 0.0 && last_search_scale_ < search_scale_) {
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK,
+                   cv::format("detecting; dark frames (mean brightness %.0f) searched coarser, at %g of full size",
+                              last_quality_.mean_brightness, last_search_scale_));
     } else {
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "detecting");
     }
@@ -409,6 +415,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     stat.add("max processing time [ms]", max_processing_ms_);
     stat.add("quality", qualityStatusName(last_quality_.status));
     stat.add("mean brightness", last_quality_.mean_brightness);
+    stat.add("search scale", last_search_scale_);
+    stat.add("pairs searched coarser (dark)", searched_coarser_);
     for (int k = 0; k < kRejectionStageCount; ++k) {
       stat.add("regions rejected: " + rejectionStageName(static_cast<RejectionStage>(k)), rejected_by_stage_[k]);
     }
@@ -465,6 +473,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
   bool last_without_colour_ = false;  ///< the last pair processed was grey
+  double last_search_scale_ = 0.0;     ///< the 2D search's scale for the last pair (0: not searched, spoiled)
+  long searched_coarser_ = 0;          ///< pairs searched coarser than search_scale (dark_search_width_px), since start
   std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
 };
