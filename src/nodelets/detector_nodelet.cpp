@@ -473,7 +473,7 @@ class DetectorNodelet : public nodelet::Nodelet {
   long last_received_ = 0, last_processed_ = 0, last_dropped_ = 0, last_unpaired_ = 0;
   QualityReport last_quality_;
   bool last_without_colour_ = false;  ///< the last pair processed was grey
-  double last_search_scale_ = 0.0;     ///< the 2D search's scale for the last pair (0: not searched, spoiled)
+  double last_search_scale_ = 0.0;     ///< the 2D search's scale for the last pair (DetectionResult; 0 before the first)
   long searched_coarser_ = 0;          ///< pairs searched coarser than search_scale (dark_search_width_px), since start
   std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
