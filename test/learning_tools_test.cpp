@@ -194,5 +194,17 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
               std::string::npos)
         << readText(dir / "learn.log");
   }
+  // Records with nothing to learn from: the trainer's refusal named with the file and the count.
+  const std::string empty = (dir / "empty.json").string();
+  std::ofstream(empty) << "{\"config\": \"c --without-check\", \"pairs\": []}";
+  for (const std::string& command : {std::string(UWS_LEARN_SHAPES) + " --out " + model,
+                                     std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " + model}) {
+    EXPECT_EQ(runTool(command + " " + empty, dir / "learn.log"), 1) << command;
+    const std::string log = readText(dir / "learn.log");
+    EXPECT_TRUE(log.find(empty + ": 0 objects to learn from: ShapeModel::train: no samples of") != std::string::npos ||
+                log.find(empty + ": 0 detections to learn from: ColourModel::train: no background samples") != std::string::npos)
+        << command << ": " << log;
+    EXPECT_FALSE(fs::exists(model)) << command;
+  }
   fs::remove_all(dir);
 }

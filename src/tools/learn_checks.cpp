@@ -122,7 +122,9 @@ int main(int argc, char** argv) {
     ColourModelTraining training;
     training.max_depth = 12;
     training.balance = 0;
-    ColourModel::train(samples.rows, samples.labels, colours, training, names).save(out, "check model");
+    tools::trainOnRecords(inputs, samples.labels.size(), "detections", [&] {
+      return ColourModel::train(samples.rows, samples.labels, colours, training, names);
+    }).save(out, "check model");
     std::map<int, int> counts;
     for (int l : samples.labels) ++counts[l];
     std::cout << "learnt from " << samples.labels.size() << " detections (background " << counts[kBackground];

@@ -70,7 +70,9 @@ int main(int argc, char** argv) {
     for (const std::string& path : inputs) addRecords(path, samples, labels);
     std::map<ShapeKind, int> counts;
     for (ShapeKind s : labels) ++counts[s];
-    ShapeModel::train(samples, labels, ShapeModelTraining{}).save(out);
+    tools::trainOnRecords(inputs, labels.size(), "objects", [&] {
+      return ShapeModel::train(samples, labels, ShapeModelTraining{});
+    }).save(out);
     std::cout << "learnt from " << labels.size() << " objects (";
     for (const auto& [shape, n] : counts) std::cout << " " << shape << " " << n;
     std::cout << " ); wrote " << out << "\n";

@@ -148,6 +148,21 @@ inline void forEachRecordPair(const YAML::Node& root, const std::string& path,
   }
 }
 
+/// `train()`'s model, learnt from what the records files `records` held (`samples` rows of `what`); a trainer's
+/// refusal (too few samples, a class with none: its message names neither the files nor the counts) is named with
+/// both. @throw std::invalid_argument "A.json, B.json: N what to learn from: <the trainer's message>".
+template <typename Train>
+auto trainOnRecords(const std::vector<std::string>& records, std::size_t samples, const std::string& what, Train train)
+    -> decltype(train()) {
+  try {
+    return train();
+  } catch (const std::invalid_argument& e) {
+    std::string files;
+    for (const std::string& r : records) files += (files.empty() ? "" : ", ") + r;
+    throw std::invalid_argument(files + ": " + std::to_string(samples) + " " + what + " to learn from: " + e.what());
+  }
+}
+
 /// Reads a learning tool's command line: --help, the options in `values` (each takes one value, e.g. "--out"), and
 /// the records files. @return -1 to go on, or the exit code to leave with (0 after --help, 2 after an unknown option
 /// or an option without its value), with the usage printed.
