@@ -163,15 +163,15 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
       {"--out " + (dir / "folder").string() + " " + good, 2, "--out " + (dir / "folder").string() + " is a folder: give the"},
       {"--out " + (dir / "missing" / "m.yml.gz").string() + " " + good, 2, "is not a writable folder"},
   };
-  for (const char* tool : {UWS_LEARN_CHECKS, UWS_LEARN_SHAPES}) {
-    const std::string command = std::string(tool) + (std::string(tool) == UWS_LEARN_CHECKS
-                                                         ? " --config " UWS_SOURCE_DIR "/config/detector.yaml "
-                                                         : " ");
+  // The two learners' command lines before their own options (learn_checks reads the detector's colours).
+  const std::string learners[] = {std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml",
+                                  UWS_LEARN_SHAPES};
+  for (const std::string& learner : learners) {
     for (const auto& c : cases) {
-      EXPECT_EQ(runTool(command + c.args, dir / "learn.log"), c.status) << tool << " " << c.args;
+      EXPECT_EQ(runTool(learner + " " + c.args, dir / "learn.log"), c.status) << learner << " " << c.args;
       const std::string log = readText(dir / "learn.log");
-      EXPECT_NE(log.find(c.named), std::string::npos) << tool << " " << c.args << ": " << log;
-      EXPECT_FALSE(fs::exists(model)) << tool << " " << c.args;
+      EXPECT_NE(log.find(c.named), std::string::npos) << learner << " " << c.args << ": " << log;
+      EXPECT_FALSE(fs::exists(model)) << learner << " " << c.args;
     }
   }
   // A shape feature that is no number: a malformed record, named with its file and pair.
@@ -187,8 +187,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
       << readText(dir / "learn.log");
   // A pair that is no map at all.
   std::ofstream(dir / "scalar.json") << "{\"config\": \"c --without-check\", \"pairs\": [3]}";
-  for (const std::string& command : {std::string(UWS_LEARN_SHAPES) + " --out " + model,
-                                     std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " + model}) {
+  for (const std::string& learner : learners) {
+    const std::string command = learner + " --out " + model;
     EXPECT_EQ(runTool(command + " " + (dir / "scalar.json").string(), dir / "learn.log"), 1) << command;
     EXPECT_NE(readText(dir / "learn.log").find("scalar.json: seed ?: malformed record (a pair is not a map)"),
               std::string::npos)
@@ -197,8 +197,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
   // Records with nothing to learn from: the trainer's refusal named with the file and the count.
   const std::string empty = (dir / "empty.json").string();
   std::ofstream(empty) << "{\"config\": \"c --without-check\", \"pairs\": []}";
-  for (const std::string& command : {std::string(UWS_LEARN_SHAPES) + " --out " + model,
-                                     std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " + model}) {
+  for (const std::string& learner : learners) {
+    const std::string command = learner + " --out " + model;
     EXPECT_EQ(runTool(command + " " + empty, dir / "learn.log"), 1) << command;
     const std::string log = readText(dir / "learn.log");
     EXPECT_TRUE(log.find(empty + ": 0 objects to learn from: ShapeModel::train: no samples of") != std::string::npos ||

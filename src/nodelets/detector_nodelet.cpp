@@ -351,7 +351,8 @@ class DetectorNodelet : public nodelet::Nodelet {
     for (const Rejection& r : result.rejected) ++rejected_by_stage_[static_cast<int>(r.stage)];
     last_quality_ = result.quality;
     last_search_scale_ = result.search_scale;
-    if (result.search_scale < search_scale_) ++searched_coarser_;
+    last_searched_coarser_ = result.search_scale < search_scale_;
+    if (last_searched_coarser_) ++searched_coarser_;
     last_without_colour_ = !carriesColour(done.input.left.layout());
     last_processing_ms_ = (ros::WallTime::now() - done.start).toSec() * 1000.0;
     max_processing_ms_ = std::max(max_processing_ms_, last_processing_ms_);
@@ -393,7 +394,7 @@ class DetectorNodelet : public nodelet::Nodelet {
                    "a Bayer pixel format, bgr8 or rgb8)");
     } else if (last_quality_.spoiled()) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "frames spoiled: " + qualityStatusName(last_quality_.status));
-    } else if (last_search_scale_ > 0.0 && last_search_scale_ < search_scale_) {
+    } else if (last_searched_coarser_) {
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK,
                    cv::format("detecting; dark frames (mean brightness %.0f) searched coarser, at %g of full size",
                               last_quality_.mean_brightness, last_search_scale_));
@@ -474,7 +475,8 @@ class DetectorNodelet : public nodelet::Nodelet {
   QualityReport last_quality_;
   bool last_without_colour_ = false;  ///< the last pair processed was grey
   double last_search_scale_ = 0.0;     ///< the 2D search's scale for the last pair (DetectionResult; 0 before the first)
-  long searched_coarser_ = 0;          ///< pairs searched coarser than search_scale (dark_search_width_px), since start
+  bool last_searched_coarser_ = false; ///< the last pair was searched coarser than search_scale (dark_search_width_px)
+  long searched_coarser_ = 0;          ///< pairs searched coarser than search_scale, since start
   std::array<long, kRejectionStageCount> rejected_by_stage_{};  ///< regions looked at and not reported, since start
   double last_processing_ms_ = 0.0, max_processing_ms_ = 0.0;
 };
