@@ -53,6 +53,11 @@ objects:
   EXPECT_NE(error.find("objects[1].colour: missing"), std::string::npos) << error;
   EXPECT_NE(error.find("objects[1].position_m: expected 3 numbers, got 2"), std::string::npos) << error;
   EXPECT_NE(error.find("objects[1].diameter_m: expected a number"), std::string::npos) << error;
+  // Values are checked along with what did not parse (rig.width, sensor.encoding), but not the defaults of an object
+  // with a field that did not parse (objects[1]'s empty colour and zero size).
+  EXPECT_NE(error.find("rig.width = -5 is outside"), std::string::npos) << error;
+  EXPECT_NE(error.find("sensor.encoding: 'yuv422'"), std::string::npos) << error;
+  EXPECT_EQ(error.find("objects[1] ("), std::string::npos) << error;
 }
 
 TEST(Scene, RejectsInvalidValues) {

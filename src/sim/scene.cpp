@@ -4,6 +4,7 @@
 #include <opencv2/core.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -238,16 +239,26 @@ Scene parseScene(const YAML::Node& root) {
     f.optional(n, "seed", "sensor.", s.sensor.seed);
   }
   parseMotion(f, root["camera_motion"], "camera_motion.", s.camera_motion);
+  std::vector<std::string> unparsed;  // "objects[i] (" of each object with a field that did not parse
   if (const YAML::Node objs = root["objects"]) {
     if (!objs.IsSequence()) {
       f.fail("objects: expected a list");
     } else {
       for (std::size_t i = 0; i < objs.size(); ++i) {
+        const std::size_t before = problems.size();
         s.objects.push_back(parseObject(f, objs[i], "objects[" + std::to_string(i) + "]."));
+        if (problems.size() > before) unparsed.push_back("objects[" + std::to_string(i) + "] (");
       }
     }
   }
-  if (problems.empty()) problems = s.validate();
+  // Every value is checked along with what did not parse, so that one reading lists every problem. A field that did
+  // not parse keeps its (valid) default, except in an object missing a required field (its colour empty, its size
+  // zero): such an object's values are not checked again, its parse problems name it.
+  for (const std::string& v : s.validate()) {
+    if (std::none_of(unparsed.begin(), unparsed.end(), [&](const std::string& o) { return v.rfind(o, 0) == 0; })) {
+      problems.push_back(v);
+    }
+  }
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
   return s;
 }
