@@ -142,6 +142,10 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
   EXPECT_EQ(learn("{\"config\": \"c --without-check --swapped\", \"pairs\": []}", "swapped.json"), 1);
   EXPECT_NE(readText(dir / "learn.log").find("swapped.json: made with --swapped"), std::string::npos)
       << readText(dir / "learn.log");
+  EXPECT_EQ(learn("{\"config\": [1], \"pairs\": []}", "list_config.json"), 1);
+  EXPECT_NE(readText(dir / "learn.log").find("list_config.json: malformed records (\"config\" is not the command line"),
+            std::string::npos)
+      << readText(dir / "learn.log");
   fs::remove_all(dir);
 }
 

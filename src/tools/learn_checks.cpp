@@ -80,7 +80,7 @@ void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, st
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
 void addRecords(const std::string& path, const std::vector<std::string>& colours, std::size_t width, Samples& out) {
   const YAML::Node root = tools::loadRandomRecords(path);
-  if (root["config"] && root["config"].as<std::string>("").find("--without-check") == std::string::npos) {
+  if (root["config"] && root["config"].as<std::string>().find("--without-check") == std::string::npos) {
     throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
                                 "lack what the check turned down");
   }

@@ -111,8 +111,8 @@ inline void refuseRepeated(const std::string& option, const std::vector<std::str
 }
 
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
-/// @throw std::invalid_argument naming the file when it is a folder, not readable, holds no "pairs" list or was made
-/// with --swapped.
+/// @throw std::invalid_argument naming the file when it is a folder, not readable, holds no "pairs" list, a "config"
+/// that is no string, or was made with --swapped.
 inline YAML::Node loadRandomRecords(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
@@ -127,7 +127,10 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
   if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
     throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
   }
-  if (root["config"] && root["config"].as<std::string>("").find(" --swapped") != std::string::npos) {
+  if (root["config"] && !root["config"].IsScalar()) {
+    throw std::invalid_argument(path + ": malformed records (\"config\" is not the command line they were made with)");
+  }
+  if (root["config"] && root["config"].as<std::string>().find(" --swapped") != std::string::npos) {
     throw std::invalid_argument(path + ": made with --swapped (pairs given the wrong way round): nothing to learn from");
   }
   return root;
