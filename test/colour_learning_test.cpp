@@ -318,6 +318,7 @@ TEST(ColourLearning, TheDefaultConfigFileHoldsTheCoresDefaults) {
   EXPECT_EQ(file.proposals.max_proposals, core.proposals.max_proposals);
   EXPECT_DOUBLE_EQ(file.check_min_confidence, core.check_min_confidence);
   EXPECT_DOUBLE_EQ(file.check_from_confidence, core.check_from_confidence);
+  EXPECT_DOUBLE_EQ(file.check_rename_margin, core.check_rename_margin);
 }
 
 TEST(ColourLearning, ZoomedCopiesKeepTheirLabelsOnTheirObjects) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -84,14 +85,15 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
   }
   EXPECT_EQ(turned_down, 2);
 
-  // A check that takes them for objects (of any colour) keeps them as the colour model named them.
+  // A check that takes them for orange objects: at check_rename_margin 1 they keep the colour model's colours.
   const int orange = static_cast<int>(std::find(colours.begin(), colours.end(), "orange") - colours.begin());
   ASSERT_LT(orange, static_cast<int>(colours.size()));
   config.learned.check = checkNaming(rows, orange, colours);
+  config.learned.check_rename_margin = 1.0;
   const DetectionResult kept = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
   ASSERT_EQ(kept.objects.size(), 2U);
   for (std::size_t k = 0; k < 2; ++k) {
-    EXPECT_EQ(kept.objects[k].colour, plain.objects[k].colour) << "the check does not name colours";
+    EXPECT_EQ(kept.objects[k].colour, plain.objects[k].colour) << "the check does not name colours at margin 1";
     EXPECT_EQ(kept.objects[k].position_m, plain.objects[k].position_m);
     // Its confidence weighs the check's share of votes for an object (the default check's for `plain`).
     auto objectShare = [&](const ColourModel& check) {
@@ -100,6 +102,52 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
     EXPECT_NEAR(kept.objects[k].confidence / plain.objects[k].confidence,
                 objectShare(*config.learned.check) / objectShare(*defaultConfig().learned.check), 1e-6);
     EXPECT_LE(kept.objects[k].confidence, 1.0);
+  }
+  // At the default margin its colour replaces the colour model's (red and green: the check is sure of orange),
+  // and nothing else changes.
+  config.learned.check_rename_margin = LearnedColourConfig{}.check_rename_margin;
+  const DetectionResult renamed = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(renamed.objects.size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_NE(plain.objects[k].colour, "orange");
+    EXPECT_EQ(renamed.objects[k].colour, "orange") << plain.objects[k].colour << " named by the check";
+    EXPECT_EQ(renamed.objects[k].position_m, plain.objects[k].position_m);
+    EXPECT_EQ(renamed.objects[k].confidence, kept.objects[k].confidence);
+  }
+  // Unless orange is not designated in this configuration: then the colour model's colour stays.
+  DetectorConfig without_orange = config;
+  without_orange.colours.classes.erase(std::remove_if(without_orange.colours.classes.begin(),
+                                                      without_orange.colours.classes.end(),
+                                                      [](const ColourClass& c) { return c.name == "orange"; }),
+                                       without_orange.colours.classes.end());
+  const DetectionResult undesignated = Detector(without_orange, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(undesignated.objects.size(), 2U);
+  for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(undesignated.objects[k].colour, plain.objects[k].colour);
+}
+
+// A dark frame (darker than quality.enhance_below), here one searched at search_scale (640x400: dark_search_width_px
+// would be finer): the check learnt the colours of few such frames and misnamed them, so it does not rename there.
+TEST(DetectionCheck, ItDoesNotNameColoursInADarkFrame) {
+  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+  scene.sensor.encoding = "bgr8";
+  scene.light.exposure = 0.01;  // mean luma ~15
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  DetectorConfig config = defaultConfig();
+  const DetectionResult plain = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_TRUE(plain.quality.enhanced);
+  EXPECT_EQ(plain.search_scale, config.search_scale);
+  ASSERT_FALSE(plain.objects.empty());
+  cv::Mat rows;
+  for (const Detection& d : plain.objects) rows.push_back(cv::Mat(d.check_features, true).reshape(1, 1));
+  const std::vector<std::string>& colours = config.learned.model->colours();
+  config.learned.check =
+      checkNaming(rows, static_cast<int>(std::find(colours.begin(), colours.end(), "orange") - colours.begin()), colours);
+  const DetectionResult checked = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
+  ASSERT_EQ(checked.objects.size(), plain.objects.size());
+  for (std::size_t k = 0; k < plain.objects.size(); ++k) {
+    EXPECT_NE(plain.objects[k].colour, "orange");
+    EXPECT_EQ(checked.objects[k].colour, plain.objects[k].colour);
   }
 }
 

@@ -211,14 +211,26 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
   }
 }
 
-/// The share of the check's trees (colour_model.check_file) that take a detection with `check_features` for an object
-/// of any colour rather than background.
-double objectShare(const ColourModel& check, const std::vector<float>& check_features) {
+/// The check's (colour_model.check_file) verdict on a detection with `check_features`: shares background first.
+ColourVerdict checkVerdict(const ColourModel& check, const std::vector<float>& check_features) {
   if (check_features.empty()) {  // a learned candidate always has them (the configuration refuses other sources)
     throw std::invalid_argument("check after stereo: a candidate without the colour model's features");
   }
-  const ColourVerdict v = check.classify(cv::Mat(check_features, true).reshape(1, 1)).front();
-  return 1.0 - v.shares.front();  // shares: background first
+  return check.classify(cv::Mat(check_features, true).reshape(1, 1)).front();
+}
+
+/// The colour the check names a detection the colour model named `named`: its best colour when that is designated in
+/// `classes` and its share of the votes exceeds the check's share for `named` by more than `margin` (at 1 never); else
+/// `named`.
+std::string colourAfterCheck(const ColourVerdict& v, const ColourModel& check, const std::string& named,
+                             const std::vector<ColourClass>& classes, double margin) {
+  const std::vector<std::string>& colours = check.colours();
+  if (v.colour < 0 || colours[v.colour] == named) return named;
+  const auto own = std::find(colours.begin(), colours.end(), named);
+  const double own_share = own == colours.end() ? 0.0 : v.shares[1 + (own - colours.begin())];  // background first
+  const bool designated = std::any_of(classes.begin(), classes.end(),
+                                      [&](const ColourClass& c) { return c.name == colours[v.colour]; });
+  return designated && v.confidence - own_share > margin ? colours[v.colour] : named;
 }
 
 /// `frame` scaled for the search; sets `out`'s quality, scale and settings (`search`: those scaled for
@@ -340,8 +352,8 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           const cv::Mat& left_colour, StageTimings& t, Rejection& rejected,
-                                           ObjectOrderEvidence* order) const {
+                                           const cv::Mat& left_colour, bool check_may_rename, StageTimings& t,
+                                           Rejection& rejected, ObjectOrderEvidence* order) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
   rejected = Rejection{c.roi, colour.name, c.colour_fraction, RejectionStage::kTooFewPoints, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
@@ -395,10 +407,16 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
                                                          static_cast<int>(d.shape), d.cut_by_border, d.fit_rmse_m, matched});
   }
   // How sure the colour search is: its share of the votes, or with a check after stereo the check's (which weighs
-  // those votes with what stereo measured). The detection keeps the colour model's colour.
+  // those votes with what stereo measured). The check names the colour where it is clearly surer of another one
+  // (colour_model.check_rename_margin; docs/accuracy.md "The check names colours").
   double colour_share = c.colour_fraction;
   if (config_.learned.check) {
-    colour_share = objectShare(*config_.learned.check, d.check_features);
+    const ColourVerdict verdict = checkVerdict(*config_.learned.check, d.check_features);
+    colour_share = 1.0 - verdict.shares.front();
+    if (check_may_rename) {
+      d.colour = colourAfterCheck(verdict, *config_.learned.check, d.colour, config_.colours.classes,
+                                  config_.learned.check_rename_margin);
+    }
     if (colour_share < config_.learned.check_min_confidence) {
       rejected.stage = RejectionStage::kCheckAfterStereo;
       char text[128];
@@ -446,6 +464,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other thread.
   const int n = static_cast<int>(front.candidates.size());
+  const bool check_may_rename = !front.quality.enhanced;  // not a dark frame (the check learnt few of their colours)
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -472,7 +491,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, t, rejected, pair_order);
+    return measure(c, left, right, right_colour, origin, left_colour, check_may_rename, t, rejected, pair_order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may

@@ -106,6 +106,9 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_REAL(learned.check_from_confidence)},
       {"colour_model", "check_min_confidence", 0.01, 1, "check_min_confidence",
        "Share of the check's trees that must vote for an object after stereo", UWS_REAL(learned.check_min_confidence)},
+      {"colour_model", "check_rename_margin", 0, 1, nullptr,
+       "With a check: its colour replaces the colour model's when its votes for it exceed those by this share (1: never)",
+       UWS_REAL(learned.check_rename_margin)},
       {"colour_model", "max_overlap", 0, 1, nullptr,
        "Proposals overlapping a more confident one this much (box and pixels) are the same object",
        UWS_REAL(learned.max_overlap)},
@@ -252,7 +255,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   }
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
     f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, "
-           "max_proposals, check_file, check_min_confidence, check_from_confidence}");
+           "max_proposals, check_file, check_min_confidence, check_from_confidence, check_rename_margin}");
   } else if (m) {
     LearnedColourConfig& l = c.learned;
     readTunables(f, m, "colour_model", c);

@@ -3,9 +3,10 @@
 /// @file The check after stereo: a second colour model that judges whether each measured detection is an object of a
 /// designated colour at all, or background (a distractor, the floor, a second view of one object), from what the
 /// colour search saw (its proposal's features and the colour model's votes) and what stereo measured (range, size,
-/// shape, how well it fitted, how much of it matched). The detection keeps the colour model's colour: letting the
-/// check rename colours named more of them right on randomised scenes but misnamed the fixed scenes' dark red and
-/// distant yellow buoys (docs/accuracy.md, "A check after stereo").
+/// shape, how well it fitted, how much of it matched). The detection keeps the colour model's colour unless the check
+/// is clearly surer of another designated one (colour_model.check_rename_margin) in a frame that is not dark:
+/// renaming every detection had misnamed the fixed scenes' dark red and distant yellow buoys (docs/accuracy.md, "A
+/// check after stereo" and "The check names colours").
 ///
 /// The colour model judges every region of a frame at once, by its looks alone; the check judges only the
 /// regions it passed, each with its 3D measurements, and is learnt (learn_checks) from the detector's own

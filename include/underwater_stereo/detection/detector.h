@@ -92,10 +92,11 @@ class Detector {
 
  private:
   /// Stereo, clustering and shape of one candidate (the masks as RoiStereoMatcher::match takes them).
+  /// `check_may_rename`: the check after stereo may name its colour (the frame is not dark, !quality.enhanced).
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                   const cv::Mat& left_colour, StageTimings& t, Rejection& rejected,
-                                   ObjectOrderEvidence* order = nullptr) const;
+                                   const cv::Mat& left_colour, bool check_may_rename, StageTimings& t,
+                                   Rejection& rejected, ObjectOrderEvidence* order = nullptr) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch at search_scale)

@@ -36,6 +36,10 @@ struct LearnedColourConfig {
   /// With a check, regions with this share of the colour model's votes go on to stereo and the check (in place of
   /// min_confidence, which stays the decision where nothing is measured in 3D: detect2d, detect_files --image).
   double check_from_confidence = 0.2;
+  /// With a check, a detection takes the check's colour when the check's share of votes for it exceeds its share for
+  /// the colour model's colour by more than this (1: the colour model's colour always). Not in a dark frame (darker than
+  /// quality.enhance_below): the check learnt the colours of few such frames and misnames them.
+  double check_rename_margin = 0.15;
   std::shared_ptr<const ColourModel> check;  ///< loaded from `check_file`, over checkFeatureNames(model->colours())
 
   std::vector<std::string> validate() const;
