@@ -33,6 +33,25 @@ std::shared_ptr<const ColourModel> checkNaming(const cv::Mat& rows, int label, c
       ColourModel::train(samples, labels, colours, ColourModelTraining{}, checkFeatureNames(colours)));
 }
 
+/// The 640x400 pool of two buoys (red, green), rendered as BGR.
+sim::Scene smallPool() {
+  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+  scene.sensor.encoding = "bgr8";
+  return scene;
+}
+
+/// Each detection's check features as one row, the rows checkNaming learns from.
+cv::Mat checkRows(const DetectionResult& result) {
+  cv::Mat rows;
+  for (const Detection& d : result.objects) rows.push_back(cv::Mat(d.check_features, true).reshape(1, 1));
+  return rows;
+}
+
+/// The index of `name` among `colours` (colours.size() when it is not one of them).
+int indexOf(const std::vector<std::string>& colours, const std::string& name) {
+  return static_cast<int>(std::find(colours.begin(), colours.end(), name) - colours.begin());
+}
+
 }  // namespace
 
 TEST(DetectionCheck, FeaturesAreTheColourSearchsThenWhatStereoMeasured) {
@@ -60,19 +79,14 @@ TEST(DetectionCheck, FeaturesAreTheColourSearchsThenWhatStereoMeasured) {
 }
 
 TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
-  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
-  scene.sensor.encoding = "bgr8";
-  const sim::Renderer renderer(scene);
+  const sim::Renderer renderer(smallPool());
   const sim::RenderedPair pair = renderer.render(0.0, 0);
   DetectorConfig config = defaultConfig();
   const std::vector<std::string>& colours = config.learned.model->colours();
   const DetectionResult plain = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
   ASSERT_EQ(plain.objects.size(), 2U);
-  cv::Mat rows;
-  for (const Detection& d : plain.objects) {
-    ASSERT_EQ(d.check_features.size(), checkFeatureNames(colours).size());
-    rows.push_back(cv::Mat(d.check_features, true).reshape(1, 1));
-  }
+  for (const Detection& d : plain.objects) ASSERT_EQ(d.check_features.size(), checkFeatureNames(colours).size());
+  const cv::Mat rows = checkRows(plain);
 
   config.learned.check = checkNaming(rows, -1, colours);
   const DetectionResult background = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
@@ -86,7 +100,7 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
   EXPECT_EQ(turned_down, 2);
 
   // A check that takes them for orange objects: at check_rename_margin 1 they keep the colour model's colours.
-  const int orange = static_cast<int>(std::find(colours.begin(), colours.end(), "orange") - colours.begin());
+  const int orange = indexOf(colours, "orange");
   ASSERT_LT(orange, static_cast<int>(colours.size()));
   config.learned.check = checkNaming(rows, orange, colours);
   config.learned.check_rename_margin = 1.0;
@@ -128,8 +142,7 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
 // A dark frame (darker than quality.enhance_below), here one searched at search_scale (640x400: dark_search_width_px
 // would be finer): the check learnt the colours of few such frames and misnamed them, so it does not rename there.
 TEST(DetectionCheck, ItDoesNotNameColoursInADarkFrame) {
-  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
-  scene.sensor.encoding = "bgr8";
+  sim::Scene scene = smallPool();
   scene.light.exposure = 0.01;  // mean luma ~15
   const sim::Renderer renderer(scene);
   const sim::RenderedPair pair = renderer.render(0.0, 0);
@@ -138,11 +151,8 @@ TEST(DetectionCheck, ItDoesNotNameColoursInADarkFrame) {
   ASSERT_TRUE(plain.quality.enhanced);
   EXPECT_EQ(plain.search_scale, config.search_scale);
   ASSERT_FALSE(plain.objects.empty());
-  cv::Mat rows;
-  for (const Detection& d : plain.objects) rows.push_back(cv::Mat(d.check_features, true).reshape(1, 1));
   const std::vector<std::string>& colours = config.learned.model->colours();
-  config.learned.check =
-      checkNaming(rows, static_cast<int>(std::find(colours.begin(), colours.end(), "orange") - colours.begin()), colours);
+  config.learned.check = checkNaming(checkRows(plain), indexOf(colours, "orange"), colours);
   const DetectionResult checked = Detector(config, renderer.calibration()).detect(pair.left, pair.right);
   ASSERT_EQ(checked.objects.size(), plain.objects.size());
   for (std::size_t k = 0; k < plain.objects.size(); ++k) {
