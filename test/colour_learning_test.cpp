@@ -154,8 +154,9 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
       << "named by its key in the file: " << negative_level;
   const std::string bad_window = refusalOf("colours: [{name: red}, {name: green}]\ncandidates: {source: learned}\n"
                                            "colour_model: {file: roundtrip.colour_model.yml.gz, background_scale: 2, "
-                                           "levels: [], max_proposals: 0}");
-  for (const char* key : {"colour_model.background_scale must", "colour_model.levels: 1 to 16", "colour_model.max_proposals must"}) {
+                                           "levels: [], max_proposals: 0, piece_step: -1}");
+  for (const char* key : {"colour_model.background_scale must", "colour_model.levels: 1 to 16", "colour_model.max_proposals must",
+                          "colour_model.piece_step must"}) {
     EXPECT_NE(bad_window.find(key), std::string::npos) << key << " not in: " << bad_window;
   }
   const std::string too_sure = refusalOf("colours: [{name: red, min_confidence: 1.5}, {name: green}]\n"
@@ -316,6 +317,7 @@ TEST(ColourLearning, TheDefaultConfigFileHoldsTheCoresDefaults) {
   EXPECT_DOUBLE_EQ(file.water.object_level, core.water.object_level);
   EXPECT_EQ(file.proposals.levels, core.proposals.levels);
   EXPECT_EQ(file.proposals.max_proposals, core.proposals.max_proposals);
+  EXPECT_DOUBLE_EQ(file.proposals.piece_step, core.proposals.piece_step);
   EXPECT_DOUBLE_EQ(file.check_min_confidence, core.check_min_confidence);
   EXPECT_DOUBLE_EQ(file.check_from_confidence, core.check_from_confidence);
   EXPECT_DOUBLE_EQ(file.check_rename_margin, core.check_rename_margin);

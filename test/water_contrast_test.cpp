@@ -223,6 +223,53 @@ TEST(BlobProposals, CuttingOnlyTheSalientBandChangesNothing) {
   }
 }
 
+// A green panel in front of a red buoy is one region at every level, which its steps cut into two pieces, one on
+// each; a lone buoy, and the pair with piece_step 0, give no piece.
+TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
+  const cv::Vec3d water = kWaters[0].veil;
+  const cv::Rect buoy(270, 170, 50, 61), panel(320, 150, 90, 100);  // the buoy's visible part
+  const auto near = [](const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0.8 * (a | b).area(); };
+  const cv::Mat lone = frameWith(water, seen({20, 30, 200}, water, 0.6), {300, 200}, 30, 3);
+  cv::Mat pair = lone.clone();
+  pair(panel).setTo(cv::Scalar(seen({40, 160, 30}, water, 0.6)));
+  ProposalConfig config;
+  config.min_area_px = 25;
+  for (const auto& [frame, step] : {std::pair{lone, 0.15}, std::pair{pair, 0.15}, std::pair{pair, 0.0}}) {
+    config.piece_step = step;
+    const WaterContrast contrast = measureWaterContrast(frame, {});
+    const std::vector<BlobProposal> found = proposeBlobs(frame, contrast, config);
+    std::vector<const BlobProposal*> regions;
+    bool whole = false, on_buoy = false, on_panel = false;
+    for (const BlobProposal& b : found) {
+      EXPECT_FALSE(b.piece);
+      whole |= near(b.roi, buoy | panel);
+      regions.push_back(&b);
+    }
+    const std::vector<BlobProposal> cut = cutIntoPieces(frame, contrast, regions, config);
+    const int pieces = static_cast<int>(cut.size());
+    for (const BlobProposal& b : cut) {
+      EXPECT_TRUE(b.piece);
+      on_buoy |= near(b.roi, buoy);
+      on_panel |= near(b.roi, panel);
+      ASSERT_EQ(b.features.size(), static_cast<std::size_t>(kBlobFeatureCount));
+    }
+    if (frame.data == lone.data) {
+      EXPECT_EQ(pieces, 0) << "a lone buoy is cut only at its rim";
+    } else if (step > 0) {
+      EXPECT_TRUE(whole) << "the pair is one region";
+      EXPECT_TRUE(on_buoy && on_panel) << pieces << " pieces, on the buoy " << on_buoy << ", on the panel " << on_panel;
+    } else {
+      EXPECT_EQ(pieces, 0) << "piece_step 0: never cut";
+    }
+  }
+  config.piece_step = -0.1;
+  EXPECT_EQ(config.validate().size(), 1u);
+  EXPECT_THROW(cutIntoPieces(pair(cv::Rect(0, 0, 64, 48)).clone(), measureWaterContrast(pair, {}), {}, ProposalConfig{}),
+               std::invalid_argument) << "contrast of another image";
+  EXPECT_THROW(cutIntoPieces(cv::Mat(480, 640, CV_8UC1), measureWaterContrast(pair, {}), {}, ProposalConfig{}),
+               std::invalid_argument) << "not BGR";
+}
+
 // squareDilation gives what cv::dilate gives, on masks of every width (whole SIMD lanes, tails, a single
 // pixel) and radii, with blobs touching the edges.
 TEST(BlobProposals, SquareDilationEqualsOpenCvs) {

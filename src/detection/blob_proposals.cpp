@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iterator>
+#include <set>
 #include <stdexcept>
 #include <vector>
 
@@ -160,6 +161,85 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
           zScore(f_mean, wc.stats, SaliencyKind::kFull, 1), zScore(f_mean, wc.stats, SaliencyKind::kFull, 2)};
 }
 
+/// A piece is kept when it holds kMinPieceShare-kMaxPieceShare of its region's pixels (the rest of a region cut only
+/// at its rim is no piece).
+constexpr double kMinPieceShare = 0.05, kMaxPieceShare = 0.8;
+
+/// Where `bgr` steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of its size. The
+/// gradient is taken from the pixels around `area` too, as over the whole image. In fixed point (ln in 1/1024ths,
+/// Sobel in 16 bits): a tenth of the time float images took (~1 ms against ~10 for most of a 960x600 frame).
+cv::Mat stepsIn(const cv::Mat& bgr, const cv::Rect& area, double step) {
+  constexpr double kOne = 1024;  // ln((255 + 4) / 4) * 1024 * 4 (Sobel's largest) fits 16 bits
+  static const std::array<std::int16_t, 256> log_table = [] {
+    std::array<std::int16_t, 256> t{};
+    for (int v = 0; v < 256; ++v) t[v] = static_cast<std::int16_t>(std::lround(kOne * std::log((v + 4.0) / 4.0)));
+    return t;
+  }();
+  const cv::Rect padded = (area + cv::Size(2, 2) - cv::Point(1, 1)) & cv::Rect(cv::Point(), bgr.size());
+  cv::Mat log_image(padded.size(), CV_16SC3);
+  for (int y = 0; y < padded.height; ++y) {
+    const std::uint8_t* in = bgr.ptr<std::uint8_t>(padded.y + y) + 3 * padded.x;
+    auto* out = log_image.ptr<std::int16_t>(y);
+    for (int x = 0; x < 3 * padded.width; ++x) out[x] = log_table[in[x]];
+  }
+  cv::Mat gx, gy;
+  cv::Sobel(log_image, gx, CV_16S, 1, 0, 3);
+  cv::Sobel(log_image, gy, CV_16S, 0, 1, 3);
+  const cv::Rect inner = area - padded.tl();
+  cv::Mat steps(area.size(), CV_8UC1);
+  const double per_pixel = step * 8 * kOne;  // Sobel's weights sum to 8
+  const auto limit = static_cast<std::uint32_t>(std::min(per_pixel * per_pixel, 4e9));
+  for (int y = 0; y < area.height; ++y) {
+    const auto* dx = gx.ptr<std::int16_t>(inner.y + y) + 3 * inner.x;
+    const auto* dy = gy.ptr<std::int16_t>(inner.y + y) + 3 * inner.x;
+    auto* o = steps.ptr<std::uint8_t>(y);
+    for (int x = 0; x < area.width; ++x) {
+      std::uint32_t g = 0;
+      for (int c = 0; c < 3; ++c) {
+        g += static_cast<std::uint32_t>(dx[3 * x + c] * dx[3 * x + c]) + static_cast<std::uint32_t>(dy[3 * x + c] * dy[3 * x + c]);
+      }
+      o[x] = g > limit ? 255 : 0;
+    }
+  }
+  return steps;
+}
+
+/// The pieces of `b` that the steps (stepsIn over `area`) cut it into, each grown back over the step it was cut
+/// along (inside `b`), appended to `out`.
+void addPieces(const BlobProposal& b, const cv::Mat& steps, const cv::Rect& area, double min_area_px,
+               std::vector<BlobProposal>& out) {
+  cv::Mat inner;
+  cv::bitwise_and(b.mask, ~steps(b.roi - area.tl()), inner);
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(inner, labels, stats, centroids, 4, CV_32S);
+  static const cv::Mat grow = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
+  for (int k = 1; k < n; ++k) {
+    const double area_px = stats.at<int>(k, cv::CC_STAT_AREA);
+    if (area_px < std::max(min_area_px, kMinPieceShare * b.area_px) || area_px > kMaxPieceShare * b.area_px) continue;
+    cv::Mat piece = labels == k;
+    cv::dilate(piece, piece, grow);
+    cv::bitwise_and(piece, b.mask, piece);
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(piece, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, b.roi.tl());
+    const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& x, const auto& y) {
+      return cv::contourArea(x) < cv::contourArea(y);
+    });
+    if (largest == contours.end() || largest->size() < 3) continue;
+    BlobProposal p;
+    p.area_px = cv::contourArea(*largest);
+    if (p.area_px < min_area_px) continue;
+    p.roi = cv::boundingRect(*largest);
+    p.mask = cv::Mat::zeros(p.roi.size(), CV_8UC1);
+    cv::drawContours(p.mask, std::vector<std::vector<cv::Point>>{*largest}, 0, 255, cv::FILLED, cv::LINE_8,
+                     cv::noArray(), 0, -p.roi.tl());
+    p.kind = b.kind;
+    p.level = b.level;
+    p.contour = std::move(*largest);
+    p.piece = true;
+    out.push_back(std::move(p));
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& blobFeatureNames() {
@@ -180,6 +260,7 @@ std::vector<std::string> ProposalConfig::validate() const {
   }
   if (!(min_area_px >= 1 && min_area_px < max_area_px)) p.push_back("proposals: need 1 <= min_area_px < max_area_px");
   if (max_proposals < 1 || max_proposals > 10000) p.push_back("proposals.max_proposals must be in [1, 10000]");
+  if (!(piece_step >= 0 && piece_step <= 10)) p.push_back("proposals.piece_step must be in [0, 10]");
   return p;
 }
 
@@ -247,6 +328,46 @@ cv::Mat squareDilation(const cv::Mat& mask, int radius) {
     maxOf(grown.ptr<std::uint8_t>(y), mask.cols);
   }
   return grown;
+}
+
+std::vector<BlobProposal> cutIntoPieces(const cv::Mat& bgr, const WaterContrast& contrast,
+                                        const std::vector<const BlobProposal*>& regions, const ProposalConfig& config) {
+  requireBgr8(bgr, "cutIntoPieces");
+  if (contrast.contrast.size() != bgr.size()) throw std::invalid_argument("cutIntoPieces: contrast and image sizes differ");
+  if (config.piece_step <= 0) return {};
+  const double min_region = kPieceRegionAreas * config.min_area_px;
+  // The steps over each group of overlapping regions' boxes (views of one object at several levels share theirs).
+  std::vector<cv::Rect> areas;
+  for (const BlobProposal* b : regions) {
+    if (b->area_px < min_region) continue;
+    cv::Rect grown = b->roi;
+    for (auto it = areas.begin(); it != areas.end();) {
+      if ((*it & grown).empty()) {
+        ++it;
+      } else {
+        grown |= *it;
+        areas.erase(it);
+        it = areas.begin();  // the grown box may now meet one passed over
+      }
+    }
+    areas.push_back(grown);
+  }
+  std::vector<cv::Mat> steps;
+  for (const cv::Rect& area : areas) steps.push_back(stepsIn(bgr, area, config.piece_step));
+  std::vector<BlobProposal> pieces;
+  std::set<std::array<int, 4>> seen;
+  for (const BlobProposal* b : regions) {
+    if (b->area_px < min_region) continue;
+    const auto area = std::find_if(areas.begin(), areas.end(), [&](const cv::Rect& r) { return (r & b->roi) == b->roi; });
+    std::vector<BlobProposal> mine;
+    addPieces(*b, steps[area - areas.begin()], *area, config.min_area_px, mine);
+    for (BlobProposal& p : mine) {
+      if (!seen.insert({p.roi.x, p.roi.y, p.roi.width, p.roi.height}).second) continue;
+      p.features = describe(bgr, contrast, p);
+      pieces.push_back(std::move(p));
+    }
+  }
+  return pieces;
 }
 
 std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,

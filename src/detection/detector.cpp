@@ -254,6 +254,15 @@ cv::Mat scaleForSearch(const RawFrame& frame, const DetectorConfig& config, cons
   return scaledDown(frame, whole, dark);
 }
 
+/// The learned search's settings for a frame of `quality`: without pieces (colour_model.piece_step) in a dark one
+/// (quality.enhanced), where the steps are mostly the sensor's noise and the objects pieces found were ranged wrong
+/// (docs/accuracy.md, "Touching objects cut along steps").
+LearnedColourConfig learnedSearchFor(const DetectorConfig& config, const QualityReport& quality) {
+  LearnedColourConfig learned = config.learned;
+  if (quality.enhanced) learned.proposals.piece_step = 0;
+  return learned;
+}
+
 /// Quality and candidates of `frame`; `search`: the settings scaled for search_scale; `for_check`: the learned
 /// search passes what the check after stereo is to judge.
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
@@ -266,7 +275,7 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     // Contrast with the water is measured as a ratio normalised by the frame's own spread: no contrast
     // enhancement or white balance before it.
     out.searched = blurredForSearch(small, *out.search);
-    LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, config.learned,
+    LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, learnedSearchFor(config, out.quality),
                                                 out.search->candidates, config.pair_threads, for_check);
     t.colour_ms = watch.lapMs();
     out.contrast = std::move(found.contrast);

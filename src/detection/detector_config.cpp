@@ -120,6 +120,9 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_REAL(learned.water.object_level)},
       {"colour_model", "max_proposals", 1, 10000, nullptr, "Proposals per frame, the most salient kept",
        UWS_INT(learned.proposals.max_proposals)},
+      {"colour_model", "piece_step", 0, 10, nullptr,
+       "Large regions also cut along steps of ln((I + 4) / 4) over this per pixel, for touching objects (0: never)",
+       UWS_REAL(learned.proposals.piece_step)},
       {"stereo", "min_depth_m", 0.1, 50, "min_depth_m", "Workspace: nearest depth searched [m]",
        UWS_REAL(stereo.min_depth_m)},
       {"stereo", "max_depth_m", 0.2, 100, "max_depth_m", "Workspace: farthest depth searched [m]",
@@ -255,7 +258,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
   }
   if (const YAML::Node m = root["colour_model"]; m && !m.IsMap()) {
     f.fail("colour_model: expected a map of {file, min_confidence, max_overlap, background_scale, water_object_level, levels, "
-           "max_proposals, check_file, check_min_confidence, check_from_confidence, check_rename_margin}");
+           "max_proposals, piece_step, check_file, check_min_confidence, check_from_confidence, check_rename_margin}");
   } else if (m) {
     LearnedColourConfig& l = c.learned;
     readTunables(f, m, "colour_model", c);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 #include <utility>
 
@@ -73,7 +74,8 @@ std::string asYamlKey(const std::string& problem) {
   static const std::pair<const char*, const char*> kKeys[] = {{"water.background_scale", "background_scale"},
                                                               {"water.object_level", "water_object_level"},
                                                               {"proposals.levels", "levels"},
-                                                              {"proposals.max_proposals", "max_proposals"}};
+                                                              {"proposals.max_proposals", "max_proposals"},
+                                                              {"proposals.piece_step", "piece_step"}};
   for (const auto& [core, yaml] : kKeys) {
     const std::string prefix = core;
     if (problem.compare(0, prefix.size(), prefix) == 0) return "colour_model." + std::string(yaml) + problem.substr(prefix.size());
@@ -85,6 +87,51 @@ std::string formatted(const char* format, double a, double b) {
   char text[96];
   std::snprintf(text, sizeof(text), format, a, b);
   return text;
+}
+
+/// The features of `regions`, a row each.
+cv::Mat featureRows(const std::vector<BlobProposal>& regions) {
+  cv::Mat rows(static_cast<int>(regions.size()), kBlobFeatureCount, CV_32F);
+  for (int i = 0; i < rows.rows; ++i) std::copy(regions[i].features.begin(), regions[i].features.end(), rows.ptr<float>(i));
+  return rows;
+}
+
+/// `proposals` within the candidates' area limits.
+ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfig& candidates) {
+  proposals.min_area_px = candidates.min_area_px;
+  proposals.max_area_px = candidates.max_area_px;
+  return proposals;
+}
+
+/// A region holds a piece when the piece's box lies this much inside the region's.
+constexpr double kPieceInside = 0.9;
+
+/// Which regions stand for their objects: a region that holds pieces (BlobProposal::piece) named two colours with
+/// their own votes (`own_needed`) holds two objects, so its pieces stand for it and it does not; a piece inside no
+/// such region does not (the region it was cut from names its object).
+std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
+                              const std::vector<double>& own_needed) {
+  std::vector<std::size_t> named_pieces;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    const ColourVerdict& v = verdicts[i];
+    if (regions[i].piece && v.colour >= 0 && v.confidence >= own_needed[v.colour]) named_pieces.push_back(i);
+  }
+  std::vector<bool> stands(regions.size(), false);
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    if (regions[i].piece) continue;
+    std::vector<std::size_t> inside;
+    for (std::size_t p : named_pieces) {
+      if (overlapOfSmaller(regions[p].roi, regions[i].roi) >= kPieceInside) inside.push_back(p);
+    }
+    const bool two_colours = std::any_of(inside.begin(), inside.end(), [&](std::size_t p) {
+      return verdicts[p].colour != verdicts[inside.front()].colour;
+    });
+    stands[i] = !two_colours;
+    if (two_colours) {
+      for (std::size_t p : inside) stands[p] = true;
+    }
+  }
+  return stands;
 }
 
 }  // namespace
@@ -137,12 +184,9 @@ std::vector<std::string> LearnedColourConfig::validate() const {
 
 LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates,
                                 int threads) {
-  ProposalConfig proposals = config.proposals;
-  proposals.min_area_px = candidates.min_area_px;
-  proposals.max_area_px = candidates.max_area_px;
   LearnedProposals out;
   out.contrast = measureWaterContrast(bgr, config.water, threads);
-  out.regions = proposeBlobs(bgr, out.contrast, proposals, threads);
+  out.regions = proposeBlobs(bgr, out.contrast, withCandidateAreas(config.proposals, candidates), threads);
   return out;
 }
 
@@ -156,26 +200,37 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   out.contrast = std::move(proposed.contrast);
   // The model's colour k is the config's class designated[k] (-1: learnt but not designated here).
   // Its votes needed: the class's own min_confidence, else the model's.
+  // With a check, what goes on to it (`needed`) is check_from_confidence; `own_needed` names pieces either way.
   std::vector<int> designated;
-  std::vector<double> needed;
+  std::vector<double> needed, own_needed;
   for (const std::string& name : config.model->colours()) {
     const auto it = std::find_if(classes.begin(), classes.end(), [&](const ColourClass& c) { return c.name == name; });
     designated.push_back(it == classes.end() ? -1 : static_cast<int>(it - classes.begin()));
-    needed.push_back(for_check                                          ? config.check_from_confidence
-                     : it != classes.end() && it->min_confidence > 0 ? it->min_confidence
-                                                                     : config.min_confidence);
+    own_needed.push_back(it != classes.end() && it->min_confidence > 0 ? it->min_confidence : config.min_confidence);
+    needed.push_back(for_check ? config.check_from_confidence : own_needed.back());
   }
   struct Named {
     BlobProposal proposal;
     ColourVerdict verdict;
   };
   std::vector<Named> named;
-  cv::Mat features(static_cast<int>(proposed.regions.size()), kBlobFeatureCount, CV_32F);
-  for (int i = 0; i < features.rows; ++i) {
-    std::copy(proposed.regions[i].features.begin(), proposed.regions[i].features.end(), features.ptr<float>(i));
-  }
-  const std::vector<ColourVerdict> verdicts = config.model->classify(features);
+  std::vector<ColourVerdict> verdicts = config.model->classify(featureRows(proposed.regions));
+  // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects.
+  std::vector<const BlobProposal*> to_cut;
   for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
+    const ColourVerdict& v = verdicts[i];
+    if (v.colour >= 0 && v.confidence >= kExplainShare * needed[v.colour]) to_cut.push_back(&proposed.regions[i]);
+  }
+  std::vector<BlobProposal> pieces =
+      cutIntoPieces(bgr, out.contrast, to_cut, withCandidateAreas(config.proposals, candidates));
+  if (!pieces.empty()) {
+    const std::vector<ColourVerdict> piece_verdicts = config.model->classify(featureRows(pieces));
+    verdicts.insert(verdicts.end(), piece_verdicts.begin(), piece_verdicts.end());
+    std::move(pieces.begin(), pieces.end(), std::back_inserter(proposed.regions));
+  }
+  const std::vector<bool> stands = standingFor(proposed.regions, verdicts, own_needed);
+  for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
+    if (!stands[i]) continue;
     BlobProposal& b = proposed.regions[i];
     const ColourVerdict& v = verdicts[i];
     if (v.colour < 0 || v.confidence < kExplainShare * needed[v.colour]) continue;
@@ -204,7 +259,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                               RejectionStage::kTooManyCandidates, "more than candidates.max_candidates"});
       continue;
     }
-    cutAtItsEdge(out.contrast, n.proposal);
+    if (!n.proposal.piece) cutAtItsEdge(out.contrast, n.proposal);  // cut again at its saliency, a piece joins its neighbour
     Candidate c;
     c.colour_index = designated[n.verdict.colour];
     c.roi = n.proposal.roi;

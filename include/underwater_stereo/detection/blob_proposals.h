@@ -19,6 +19,12 @@ struct ProposalConfig {
   double min_area_px = 12;   ///< searched-image pixels; smaller regions are not proposed
   double max_area_px = 1e6;  ///< larger regions are not proposed
   int max_proposals = 400;   ///< per frame, the most salient kept
+  /// Large regions a colour model names are also cut along the image's steps (cutIntoPieces): where the gradient of
+  /// ln((I + 4) / 4), the three channels together, exceeds this per searched pixel (0: never). Two touching objects
+  /// (a box behind a buoy, a panel against a sphere) make one region at every saliency level; its pieces may be
+  /// named apart (findLearnedCandidates). The Detector cuts none in a dark frame. 0.15 chosen on the validation seeds
+  /// 60000-60299 among 0.07, 0.1, 0.15 and 0.2 (docs/accuracy.md, "Touching objects cut along steps").
+  double piece_step = 0.15;
 
   std::vector<std::string> validate() const;
 };
@@ -32,6 +38,7 @@ struct BlobProposal {
   SaliencyKind kind = SaliencyKind::kChroma;  ///< the saliency it was cut from
   double level = 0;                           ///< and at which level
   std::vector<float> features;                ///< kBlobFeatureCount values, blobFeatureNames() order
+  bool piece = false;  ///< cut from a larger proposal along the image's steps (cutIntoPieces)
 };
 
 /// Number and names of the features of a proposal, in order (stored with a learnt model to check it).
@@ -43,6 +50,16 @@ const std::vector<std::string>& blobFeatureNames();
 /// @throw std::invalid_argument when the sizes differ, the image is not CV_8UC3 or the config is invalid.
 std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,
                                        int threads = 1);
+
+/// A region is cut into pieces from this many times ProposalConfig::min_area_px.
+constexpr double kPieceRegionAreas = 8;
+
+/// The pieces (BlobProposal::piece, with their features) that the image's steps (ProposalConfig::piece_step) cut
+/// those of `regions` (proposeBlobs' of `bgr` and `contrast`) into that are at least kPieceRegionAreas x min_area_px;
+/// each piece once, however many regions it was cut from. None at piece_step 0.
+/// @throw std::invalid_argument when the sizes differ or the image is not CV_8UC3.
+std::vector<BlobProposal> cutIntoPieces(const cv::Mat& bgr, const WaterContrast& contrast,
+                                        const std::vector<const BlobProposal*>& regions, const ProposalConfig& config);
 
 /// The mask (CV_8UC1 0/255, of `contrast`'s size) of the pixels a proposal of this kind and level is cut from.
 cv::Mat salientMask(const WaterContrast& contrast, SaliencyKind kind, double level);
