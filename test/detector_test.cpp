@@ -74,7 +74,8 @@ TEST(Detector, FindsBothBuoysWithRangeAndPositionWithin3Percent) {
 
 // A green buoy just behind the red one, touching it in the image: one region at every saliency level, proposed also
 // as its pieces (colour_model.piece_step), so both buoys are found, each in its colour at its range (the green one,
-// partly hidden, within 5 %: 3.6 % short when written); without pieces the two are one orange region.
+// partly hidden, within 5 %: 3.6 % short when written); without pieces neither is (one orange detection over both
+// when written).
 TEST(Detector, TouchingBuoysOfTwoColoursAreBothFound) {
   sim::Scene scene = twoBuoys();
   scene.objects[1].position_m = {-0.256, 0.128, 3.2};  // 0.08 rad right of the red buoy, their radii 0.05 + 0.039
@@ -100,7 +101,8 @@ TEST(Detector, TouchingBuoysOfTwoColoursAreBothFound) {
   }
 }
 
-// In a dark frame (its steps are mostly noise) nothing is cut into pieces: the same objects with and without.
+// In a dark frame (its steps are mostly noise) nothing is cut into pieces: the touching buoys in the dark give the
+// same objects with and without piece_step (a guard: it does not show that pieces would differ here).
 TEST(Detector, NoPiecesInADarkFrame) {
   sim::Scene scene = twoBuoysInTheDark();
   scene.objects[1].position_m = {-0.256, 0.128, 3.2};  // touching, as above

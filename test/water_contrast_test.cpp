@@ -223,8 +223,8 @@ TEST(BlobProposals, CuttingOnlyTheSalientBandChangesNothing) {
   }
 }
 
-// A green panel in front of a red buoy is one region at every level, which its steps cut into two pieces, one on
-// each; a lone buoy, and the pair with piece_step 0, give no piece.
+// A green panel in front of a red buoy is one region at every level, which its steps cut into pieces, one on each
+// object; a lone buoy, and the pair with piece_step 0, give no piece.
 TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
   const cv::Vec3d water = kWaters[0].veil;
   const cv::Rect buoy(270, 170, 50, 61), panel(320, 150, 90, 100);  // the buoy's visible part

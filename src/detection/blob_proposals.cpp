@@ -330,11 +330,17 @@ cv::Mat squareDilation(const cv::Mat& mask, int radius) {
   return grown;
 }
 
+cv::Mat featureRows(const std::vector<BlobProposal>& regions) {
+  cv::Mat rows(static_cast<int>(regions.size()), kBlobFeatureCount, CV_32F);
+  for (int i = 0; i < rows.rows; ++i) std::copy(regions[i].features.begin(), regions[i].features.end(), rows.ptr<float>(i));
+  return rows;
+}
+
 std::vector<BlobProposal> cutIntoPieces(const cv::Mat& bgr, const WaterContrast& contrast,
                                         const std::vector<const BlobProposal*>& regions, const ProposalConfig& config) {
   requireBgr8(bgr, "cutIntoPieces");
   if (contrast.contrast.size() != bgr.size()) throw std::invalid_argument("cutIntoPieces: contrast and image sizes differ");
-  if (config.piece_step <= 0) return {};
+  if (!(config.piece_step > 0)) return {};  // 0: never (NaN too: validate() refuses it)
   const double min_region = kPieceRegionAreas * config.min_area_px;
   // The steps over each group of overlapping regions' boxes (views of one object at several levels share theirs).
   std::vector<cv::Rect> areas;

@@ -89,13 +89,6 @@ std::string formatted(const char* format, double a, double b) {
   return text;
 }
 
-/// The features of `regions`, a row each.
-cv::Mat featureRows(const std::vector<BlobProposal>& regions) {
-  cv::Mat rows(static_cast<int>(regions.size()), kBlobFeatureCount, CV_32F);
-  for (int i = 0; i < rows.rows; ++i) std::copy(regions[i].features.begin(), regions[i].features.end(), rows.ptr<float>(i));
-  return rows;
-}
-
 /// `proposals` within the candidates' area limits.
 ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfig& candidates) {
   proposals.min_area_px = candidates.min_area_px;
@@ -103,7 +96,8 @@ ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfi
   return proposals;
 }
 
-/// A region holds a piece when the piece's box lies this much inside the region's.
+/// A region holds a piece when their boxes overlap this much of the smaller one (overlapOfSmaller: a region smaller
+/// than the piece's box and inside it counts too).
 constexpr double kPieceInside = 0.9;
 
 /// Which regions stand for their objects: a region that holds pieces (BlobProposal::piece) named two colours with
@@ -216,13 +210,15 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   std::vector<Named> named;
   std::vector<ColourVerdict> verdicts = config.model->classify(featureRows(proposed.regions));
   // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects.
-  std::vector<const BlobProposal*> to_cut;
-  for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
-    const ColourVerdict& v = verdicts[i];
-    if (v.colour >= 0 && v.confidence >= kExplainShare * needed[v.colour]) to_cut.push_back(&proposed.regions[i]);
+  std::vector<BlobProposal> pieces;
+  {
+    std::vector<const BlobProposal*> to_cut;  // into proposed.regions, which the pieces join below
+    for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
+      const ColourVerdict& v = verdicts[i];
+      if (v.colour >= 0 && v.confidence >= kExplainShare * needed[v.colour]) to_cut.push_back(&proposed.regions[i]);
+    }
+    pieces = cutIntoPieces(bgr, out.contrast, to_cut, withCandidateAreas(config.proposals, candidates));
   }
-  std::vector<BlobProposal> pieces =
-      cutIntoPieces(bgr, out.contrast, to_cut, withCandidateAreas(config.proposals, candidates));
   if (!pieces.empty()) {
     const std::vector<ColourVerdict> piece_verdicts = config.model->classify(featureRows(pieces));
     verdicts.insert(verdicts.end(), piece_verdicts.begin(), piece_verdicts.end());

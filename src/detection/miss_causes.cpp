@@ -91,11 +91,7 @@ std::vector<Miss> explainMisses(const Detector& detector, const std::vector<Labe
       if (found) continue;
       if (!looked) {
         proposals = detector.proposals(RawFrame(frame.image));
-        cv::Mat features(static_cast<int>(proposals.size()), kBlobFeatureCount, CV_32F);
-        for (int i = 0; i < features.rows; ++i) {
-          std::copy(proposals[i].features.begin(), proposals[i].features.end(), features.ptr<float>(i));
-        }
-        verdicts = model->classify(features);
+        verdicts = model->classify(featureRows(proposals));
         looked = true;
       }
       // The model's colour index of this label's colour.

@@ -51,6 +51,9 @@ const std::vector<std::string>& blobFeatureNames();
 std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& contrast, const ProposalConfig& config,
                                        int threads = 1);
 
+/// The features of `regions`, a row each (CV_32F, kBlobFeatureCount columns): what a colour model classifies.
+cv::Mat featureRows(const std::vector<BlobProposal>& regions);
+
 /// A region is cut into pieces from this many times ProposalConfig::min_area_px.
 constexpr double kPieceRegionAreas = 8;
 

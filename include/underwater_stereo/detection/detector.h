@@ -83,9 +83,9 @@ class Detector {
   /// @throw std::invalid_argument when `frame` is empty.
   DetectionResult detect2d(const RawFrame& frame) const;
 
-  /// The regions the learned colour search weighs in `frame` (full-resolution pixels; contours and masks
-  /// stay in the searched image's), with the features a colour model names them from: what learn_colours
-  /// trains on. Empty for a spoiled frame. @throw std::invalid_argument when `frame` is empty.
+  /// The regions the learned colour search weighs in `frame`, not their pieces (cutIntoPieces) (full-resolution
+  /// pixels; contours and masks stay in the searched image's), with the features a colour model names them from:
+  /// what learn_colours trains on. Empty for a spoiled frame. @throw std::invalid_argument when `frame` is empty.
   std::vector<BlobProposal> proposals(const RawFrame& frame) const;
 
   const DetectorConfig& config() const { return config_; }

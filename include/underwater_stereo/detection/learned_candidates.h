@@ -86,7 +86,7 @@ struct LearnedSearch {
 };
 
 /// The water contrast of `bgr` (the searched image) and the regions proposed in it within the candidates' area
-/// limits: what findLearnedCandidates names, and what learn_colours learns from.
+/// limits: what findLearnedCandidates names (with the pieces it cuts some into), and what learn_colours learns from.
 struct LearnedProposals {
   WaterContrast contrast;
   std::vector<BlobProposal> regions;
