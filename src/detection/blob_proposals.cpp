@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "underwater_stereo/detection/candidate_finder.h"
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/work_on_threads.h"
 
@@ -229,9 +230,7 @@ void addPieces(const BlobProposal& b, const cv::Mat& steps, const cv::Rect& area
     p.area_px = cv::contourArea(*largest);
     if (p.area_px < min_area_px) continue;
     p.roi = cv::boundingRect(*largest);
-    p.mask = cv::Mat::zeros(p.roi.size(), CV_8UC1);
-    cv::drawContours(p.mask, std::vector<std::vector<cv::Point>>{*largest}, 0, 255, cv::FILLED, cv::LINE_8,
-                     cv::noArray(), 0, -p.roi.tl());
+    p.mask = filledOutline(*largest, p.roi);
     p.kind = b.kind;
     p.level = b.level;
     p.contour = std::move(*largest);
@@ -400,9 +399,7 @@ std::vector<BlobProposal> proposeBlobs(const cv::Mat& bgr, const WaterContrast& 
       if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) continue;
       BlobProposal b;
       b.roi = cv::boundingRect(contour);
-      b.mask = cv::Mat::zeros(b.roi.size(), CV_8UC1);
-      cv::drawContours(b.mask, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8,
-                       cv::noArray(), 0, -b.roi.tl());
+      b.mask = filledOutline(contour, b.roi);
       b.area_px = area;
       b.kind = kind;
       b.level = level;

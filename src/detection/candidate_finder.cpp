@@ -56,9 +56,7 @@ bool describe(const cv::Mat& bgr, const cv::Mat& colour_mask, std::vector<cv::Po
   const double area = cv::contourArea(contour);
   if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) return false;
   out.roi = cv::boundingRect(contour);
-  cv::Mat filled = cv::Mat::zeros(out.roi.size(), CV_8UC1);
-  cv::drawContours(filled, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(),
-                   0, -out.roi.tl());
+  const cv::Mat filled = filledOutline(contour, out.roi);
   const int inside = cv::countNonZero(filled);
   out.mask = filled & colour_mask(out.roi);
   out.colour_fraction = inside > 0 ? cv::countNonZero(out.mask) / static_cast<double>(inside) : 0.0;
@@ -106,9 +104,7 @@ std::vector<Candidate> splitByHueGroup(const cv::Mat& bgr, const ColourMasks& ma
   const double area = cv::contourArea(contour);
   if (area < config.min_area_px || area > config.max_area_px || contour.size() < 3) return out;
   const cv::Rect roi = cv::boundingRect(contour);
-  cv::Mat filled = cv::Mat::zeros(roi.size(), CV_8UC1);
-  cv::drawContours(filled, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(),
-                   0, -roi.tl());
+  const cv::Mat filled = filledOutline(contour, roi);
   const std::size_t n = classes.size();
   std::vector<int> counts(n);
   for (std::size_t c = 0; c < n; ++c) counts[c] = cv::countNonZero(masks.classes[c](roi) & filled);
@@ -179,6 +175,13 @@ std::vector<std::string> CandidateConfig::validate() const {
   }
   if (!(max_candidates >= 1 && max_candidates <= 1000)) p.push_back("candidates.max_candidates must be in [1, 1000]");
   return p;
+}
+
+cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box) {
+  cv::Mat filled = cv::Mat::zeros(box.size(), CV_8UC1);
+  cv::drawContours(filled, std::vector<std::vector<cv::Point>>{contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(), 0,
+                   -box.tl());
+  return filled;
 }
 
 OutlineKind classifyOutline(const std::vector<cv::Point>& contour) {

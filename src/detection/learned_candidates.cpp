@@ -59,9 +59,7 @@ void cutAtItsEdge(const WaterContrast& contrast, BlobProposal& b) {
   if (cut.contour.empty()) return;
   const double area = cv::contourArea(cut.contour);
   if (area > kMaxGrowth * b.area_px || area < b.area_px / kMaxGrowth) return;
-  b.mask = cv::Mat::zeros(cut.roi.size(), CV_8UC1);
-  cv::drawContours(b.mask, std::vector<std::vector<cv::Point>>{cut.contour}, 0, 255, cv::FILLED, cv::LINE_8, cv::noArray(),
-                   0, -cut.roi.tl());
+  b.mask = filledOutline(cut.contour, cut.roi);
   b.roi = cut.roi;
   b.contour = std::move(cut.contour);
   b.area_px = area;

@@ -64,6 +64,9 @@ double faceContrast(const cv::Mat& bgr_roi, const cv::Mat& mask);
 /// @throw std::invalid_argument with fewer than 3 points.
 OutlineKind classifyOutline(const std::vector<cv::Point>& contour);
 
+/// The inside of `contour` (image coordinates) filled, over `box` (CV_8UC1 0/255 of its size; 8-connected edge).
+cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box);
+
 /// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too).
 bool hueNeighbours(const ColourClass& a, const ColourClass& b);
 
