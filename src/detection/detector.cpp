@@ -389,7 +389,9 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   Detection d = describe2d(c, left_roi, left.size(), config_);
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
   ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), outlineCues(c, left_roi, left.size()), config_.shape);
-  placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration(), d.cut_by_border);
+  // A piece's outline is partly the edge of the object it touched: its silhouette's depth is not its own, and the
+  // piece keeps its points' (docs/accuracy.md, "A piece keeps its points' depth").
+  if (!c.piece) placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration(), d.cut_by_border);
   t.fit_ms += stage.lapMs();
   if (!fit.centre.allFinite() || !fit.size.allFinite()) {  // never report NaN
     rejected.stage = RejectionStage::kNoFit;

@@ -265,6 +265,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     c.face_contrast = faceContrast(bgr(c.roi), c.mask);
     c.saliency_kind = n.proposal.kind;
     c.saliency_level = n.proposal.level;
+    c.piece = n.proposal.piece;
     c.colour_features = std::move(n.proposal.features);
     c.colour_features.insert(c.colour_features.end(), n.verdict.shares.begin(), n.verdict.shares.end());
     c.contour = std::move(n.proposal.contour);
