@@ -466,10 +466,8 @@ DetectorConfig learnedConfig(const DetectorConfig& base, const std::string& mode
   c.learned.check.reset();
   c.colours.classes.clear();
   for (const std::string& name : options.colours) {
-    const auto it = std::find_if(base.colours.classes.begin(), base.colours.classes.end(),
-                                 [&](const ColourClass& k) { return k.name == name; });
     ColourClass k;
-    if (it != base.colours.classes.end()) k = *it;
+    if (const ColourClass* in_base = findColourClass(base.colours.classes, name)) k = *in_base;
     k.name = name;
     k.min_confidence = 0;  // the base's own threshold belongs to the base's model
     c.colours.classes.push_back(k);

@@ -39,6 +39,11 @@ int channelMedian(const cv::Mat& image, int channel) {
 
 }  // namespace
 
+const ColourClass* findColourClass(const std::vector<ColourClass>& classes, const std::string& name) {
+  const auto it = std::find_if(classes.begin(), classes.end(), [&](const ColourClass& c) { return c.name == name; });
+  return it == classes.end() ? nullptr : &*it;
+}
+
 std::vector<std::string> ColourMaskConfig::validate() const {
   std::vector<std::string> p;
   if (classes.empty()) p.push_back("colours: at least one designated colour is needed");

@@ -228,8 +228,7 @@ std::string colourAfterCheck(const ColourVerdict& v, const ColourModel& check, c
   if (v.colour < 0 || colours[v.colour] == named) return named;
   const auto own = std::find(colours.begin(), colours.end(), named);
   const double own_share = own == colours.end() ? 0.0 : v.shares[1 + (own - colours.begin())];  // background first
-  const bool designated = std::any_of(classes.begin(), classes.end(),
-                                      [&](const ColourClass& c) { return c.name == colours[v.colour]; });
+  const bool designated = findColourClass(classes, colours[v.colour]) != nullptr;
   return designated && v.confidence - own_share > margin ? colours[v.colour] : named;
 }
 

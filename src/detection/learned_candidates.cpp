@@ -196,9 +196,9 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   std::vector<int> designated;
   std::vector<double> needed, own_needed;
   for (const std::string& name : config.model->colours()) {
-    const auto it = std::find_if(classes.begin(), classes.end(), [&](const ColourClass& c) { return c.name == name; });
-    designated.push_back(it == classes.end() ? -1 : static_cast<int>(it - classes.begin()));
-    own_needed.push_back(it != classes.end() && it->min_confidence > 0 ? it->min_confidence : config.min_confidence);
+    const ColourClass* k = findColourClass(classes, name);
+    designated.push_back(k == nullptr ? -1 : static_cast<int>(k - classes.data()));
+    own_needed.push_back(k != nullptr && k->min_confidence > 0 ? k->min_confidence : config.min_confidence);
     needed.push_back(for_check ? config.check_from_confidence : own_needed.back());
   }
   struct Named {

@@ -52,6 +52,9 @@ struct ColourMaskConfig {
   std::vector<std::string> validate() const;
 };
 
+/// The class named `name` in `classes`, or nullptr when none is.
+const ColourClass* findColourClass(const std::vector<ColourClass>& classes, const std::string& name);
+
 /// Per-channel gains that make a BGR8 image's mean grey (grey-world white balance).
 /// @throw std::invalid_argument when not CV_8UC3 or empty.
 cv::Scalar greyWorldGains(const cv::Mat& bgr);
