@@ -4,7 +4,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include "config_test_helpers.h"
@@ -20,17 +22,22 @@ namespace {
 DetectorConfig defaultConfig() { return loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"); }
 
 /// A check over `colours` that names every row like `rows` `label` (-1: background), and
-/// learns each other class from one row far from them (a model must have seen every class).
-std::shared_ptr<const ColourModel> checkNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
-  cv::Mat samples = rows.clone();
-  std::vector<int> labels(rows.rows, label);
-  for (int k = -1; k < static_cast<int>(colours.size()); ++k) {
-    if (k == label) continue;
-    samples.push_back(cv::Mat(1, rows.cols, CV_32F, cv::Scalar(1e6)));
-    labels.push_back(k);
+/// learns each other class from rows far from them (a model must have seen every class). Every row is given
+/// kCopies times: boosted trees split only where 10 samples reach a node.
+std::shared_ptr<const DetectionCheck> checkNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
+  constexpr int kCopies = 10;
+  cv::Mat samples;
+  std::vector<int> labels;
+  for (int copy = 0; copy < kCopies; ++copy) {
+    samples.push_back(rows);
+    labels.insert(labels.end(), rows.rows, label);
+    for (int k = -1; k < static_cast<int>(colours.size()); ++k) {
+      if (k == label) continue;
+      samples.push_back(cv::Mat(1, rows.cols, CV_32F, cv::Scalar(1e6)));
+      labels.push_back(k);
+    }
   }
-  return std::make_shared<const ColourModel>(
-      ColourModel::train(samples, labels, colours, ColourModelTraining{}, checkFeatureNames(colours)));
+  return std::make_shared<const DetectionCheck>(DetectionCheck::train(samples, labels, colours, CheckTraining{}));
 }
 
 /// The 640x400 pool of two buoys (red, green), rendered as BGR.
@@ -109,12 +116,10 @@ TEST(DetectionCheck, ItTurnsDownWhatItTakesForBackgroundAfterStereo) {
   for (std::size_t k = 0; k < 2; ++k) {
     EXPECT_EQ(kept.objects[k].colour, plain.objects[k].colour) << "the check does not name colours at margin 1";
     EXPECT_EQ(kept.objects[k].position_m, plain.objects[k].position_m);
-    // Its confidence weighs the check's share of votes for an object (the default check's for `plain`).
-    auto objectShare = [&](const ColourModel& check) {
-      return 1.0 - check.classify(cv::Mat(kept.objects[k].check_features, true).reshape(1, 1)).front().shares.front();
-    };
+    // Its confidence weighs the check's object score (the default check's for `plain`).
+    const std::vector<float>& f = kept.objects[k].check_features;
     EXPECT_NEAR(kept.objects[k].confidence / plain.objects[k].confidence,
-                objectShare(*config.learned.check) / objectShare(*defaultConfig().learned.check), 1e-6);
+                config.learned.check->objectScore(f) / defaultConfig().learned.check->objectScore(f), 1e-6);
     EXPECT_LE(kept.objects[k].confidence, 1.0);
   }
   // At the default margin its colour replaces the colour model's (red and green: the check is sure of orange),
@@ -166,6 +171,8 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   const std::vector<std::string> colours = ColourModel::load(model).colours();
   const cv::Mat row(1, static_cast<int>(checkFeatureNames(colours).size()), CV_32F, cv::Scalar(0));
   checkNaming(row, -1, colours)->save(::testing::TempDir() + "check.yml.gz");
+  // A check of an earlier build (a forest alone) is refused: it has no boosted trees.
+  checkNaming(row, -1, colours)->colours().save(::testing::TempDir() + "forest_check.yml.gz");
   const std::string head = "colours: [{name: red}, {name: orange}, {name: yellow}, {name: green}]\n"
                            "candidates: {source: learned}\n";
   const DetectorConfig ok = parseDetectorConfig(
@@ -191,4 +198,43 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   const std::string other = refusalOf(head + "colour_model: {file: " + model + ", check_file: other_check.yml.gz}");
   EXPECT_NE(other.find("colour_model.check_file: check model"), std::string::npos) << other;
   EXPECT_NE(other.find("made for other features"), std::string::npos) << other;
+  const std::string forest_only = refusalOf(head + "colour_model: {file: " + model + ", check_file: forest_check.yml.gz}");
+  EXPECT_NE(forest_only.find("no boosted trees"), std::string::npos) << forest_only;
+}
+
+// A check file whose boosted trees split on a feature it does not have, or vote outside gentle AdaBoost's [-1, 1], is
+// refused with the file named (OpenCV would read out of bounds, or the object score would leave 0-1).
+TEST(DetectionCheck, ACorruptCheckFileIsRefusedNamingIt) {
+  const std::vector<std::string> colours{"red", "green"};
+  const int width = static_cast<int>(checkFeatureNames(colours).size());
+  cv::Mat rows(2, width, CV_32F);
+  cv::randu(rows, 0.0, 1.0);
+  const std::string good = ::testing::TempDir() + "check_plain.yml";
+  checkNaming(rows, 0, colours)->save(good);
+  EXPECT_NO_THROW(DetectionCheck::load(good, colours));
+  std::stringstream text;
+  text << std::ifstream(good).rdbuf();
+  const std::string saved = text.str();
+  const std::size_t object = saved.find("object:");
+  ASSERT_NE(object, std::string::npos);
+  auto refusal = [&](const std::string& key, const std::string& bad) {
+    std::string corrupt = saved;
+    const std::size_t at = corrupt.find(key, object);
+    if (at == std::string::npos) return std::string("no ") + key + " in the boosted trees";
+    corrupt.replace(at, corrupt.find_first_of(",\n", at) - at, bad);
+    const std::string path = ::testing::TempDir() + "check_corrupt.yml";
+    std::ofstream(path) << corrupt;
+    try {
+      DetectionCheck::load(path, colours);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string split = refusal("var:", "var:" + std::to_string(width));
+  EXPECT_NE(split.find("check model " + ::testing::TempDir() + "check_corrupt.yml: boosted trees: tree 0 node 0 splits on "
+                       "feature"), std::string::npos) << split;
+  const std::string vote = refusal("value:", "value: 7.5");
+  EXPECT_NE(vote.find("outside [-1, 1]"), std::string::npos) << vote;
+  EXPECT_THROW(DetectionCheck::load(::testing::TempDir() + "no_such_check.yml", colours), std::invalid_argument);
 }

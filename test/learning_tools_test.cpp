@@ -127,6 +127,24 @@ TEST(LearnChecks, LearnsFromRecordsMadeWithoutACheckAndRefusesOthers) {
                  (dir / "check.yml.gz").string() + "}"));
   EXPECT_TRUE(checked.learned.check);
 
+  // --colours-from keeps that check's forest for naming colours (the committed check's, here; a forest alone serves too):
+  // only the boosted trees are learnt.
+  const std::string committed = UWS_SOURCE_DIR "/config/detector.check_model.yml.gz";
+  ASSERT_EQ(runTool(std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml --out " +
+                        (dir / "kept.yml.gz").string() + " --colours-from " + committed + " " + (dir / "good.json").string(),
+                    dir / "learn.log"),
+            0)
+      << readText(dir / "learn.log");
+  const std::vector<std::string>& colours = base.learned.model->colours();
+  const DetectionCheck kept = DetectionCheck::load((dir / "kept.yml.gz").string(), colours);
+  const DetectionCheck source = DetectionCheck::load(committed, colours);
+  cv::Mat probe(8, static_cast<int>(width), CV_32F);
+  cv::randu(probe, -1.0, 2.0);
+  for (int r = 0; r < probe.rows; ++r) {
+    const std::vector<float> f(probe.ptr<float>(r), probe.ptr<float>(r) + probe.cols);
+    EXPECT_EQ(kept.colourVerdict(f).shares, source.colourVerdict(f).shares);
+  }
+
   EXPECT_EQ(learn(records(width, false), "checked.json"), 1);
   EXPECT_NE(readText(dir / "learn.log").find("made with a check"), std::string::npos) << readText(dir / "learn.log");
   EXPECT_EQ(learn(records(width - 1, true), "narrow.json"), 1);

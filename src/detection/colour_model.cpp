@@ -53,8 +53,7 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   return m;
 }
 
-ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names, const std::string& what) {
-  const std::string named = what + " " + path;
+cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
   if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
   cv::FileStorage fs;
   try {
@@ -63,6 +62,16 @@ ColourModel ColourModel::load(const std::string& path, const std::vector<std::st
     throw std::invalid_argument(named + ": unreadable (" + e.msg + ")");
   }
   if (!fs.isOpened()) throw std::invalid_argument(named + ": cannot be opened");
+  return fs;
+}
+
+ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names, const std::string& what) {
+  const std::string named = what + " " + path;
+  const cv::FileStorage fs = openModelFile(path, named);
+  return read(fs, names, named);
+}
+
+ColourModel ColourModel::read(const cv::FileStorage& fs, const std::vector<std::string>& names, const std::string& named) {
   ColourModel m;
   m.features_ = names;
   std::vector<std::string> features;
@@ -92,6 +101,11 @@ void ColourModel::save(const std::string& path, const std::string& what) const {
   if (empty()) throw std::runtime_error("ColourModel::save: empty model");
   cv::FileStorage fs(path, cv::FileStorage::WRITE);
   if (!fs.isOpened()) throw std::runtime_error(what + " " + path + ": cannot be written");
+  write(fs);
+}
+
+void ColourModel::write(cv::FileStorage& fs) const {
+  if (empty()) throw std::runtime_error("ColourModel::write: empty model");
   fs << "colours" << colours_;
   fs << "features" << std::vector<std::string>(features_.begin(), features_.begin() + feature_count_);
   fs << "forest" << "{";

@@ -211,14 +211,6 @@ void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optio
   }
 }
 
-/// The check's (colour_model.check_file) verdict on a detection with `check_features`: shares background first.
-ColourVerdict checkVerdict(const ColourModel& check, const std::vector<float>& check_features) {
-  if (check_features.empty()) {  // a learned candidate always has them (the configuration refuses other sources)
-    throw std::invalid_argument("check after stereo: a candidate without the colour model's features");
-  }
-  return check.classify(cv::Mat(check_features, true).reshape(1, 1)).front();
-}
-
 /// The colour the check names a detection the colour model named `named`: its best colour when that is designated in
 /// `classes` and its share of the votes exceeds the check's share for `named` by more than `margin` (at 1 never); else
 /// `named`.
@@ -416,21 +408,21 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     d.check_features = checkFeatures(c.colour_features, {d.range_m, fit.size.maxCoeff(), fit.size.minCoeff(),
                                                          static_cast<int>(d.shape), d.cut_by_border, d.fit_rmse_m, matched});
   }
-  // How sure the colour search is: its share of the votes, or with a check after stereo the check's (which weighs
-  // those votes with what stereo measured). The check names the colour where it is clearly surer of another one
+  // How sure the colour search is: its share of the votes, or with a check after stereo the check's object score
+  // (which weighs those votes with what stereo measured). The check names the colour where it is clearly surer of another one
   // (colour_model.check_rename_margin; docs/accuracy.md "The check names colours").
   double colour_share = c.colour_fraction;
   if (config_.learned.check) {
-    const ColourVerdict verdict = checkVerdict(*config_.learned.check, d.check_features);
-    colour_share = 1.0 - verdict.shares.front();
+    const DetectionCheck& check = *config_.learned.check;
+    colour_share = check.objectScore(d.check_features);
     if (check_may_rename) {
-      d.colour = colourAfterCheck(verdict, *config_.learned.check, d.colour, config_.colours.classes,
-                                  config_.learned.check_rename_margin);
+      d.colour = colourAfterCheck(check.colourVerdict(d.check_features), check.colours(), d.colour,
+                                  config_.colours.classes, config_.learned.check_rename_margin);
     }
     if (colour_share < config_.learned.check_min_confidence) {
       rejected.stage = RejectionStage::kCheckAfterStereo;
       char text[128];
-      std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: %.2f of the votes for an object, under "
+      std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: an object at %.2f, under "
                     "colour_model.check_min_confidence %.2f", d.range_m, colour_share, config_.learned.check_min_confidence);
       rejected.reason = text;
       return std::nullopt;

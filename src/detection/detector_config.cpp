@@ -105,7 +105,7 @@ const std::vector<DetectorTunable>& detectorTunables() {
        "With a check: share of the colour votes from which a region goes on to stereo and the check",
        UWS_REAL(learned.check_from_confidence)},
       {"colour_model", "check_min_confidence", 0.01, 1, "check_min_confidence",
-       "Share of the check's trees that must vote for an object after stereo", UWS_REAL(learned.check_min_confidence)},
+       "How sure the check after stereo must be of an object (0-1; 0.5: its votes even)", UWS_REAL(learned.check_min_confidence)},
       {"colour_model", "check_rename_margin", 0, 1, nullptr,
        "With a check: its colour replaces the colour model's when its votes for it exceed those by this share (1: never)",
        UWS_REAL(learned.check_rename_margin)},
@@ -289,8 +289,7 @@ DetectorConfig parseDetectorConfig(const YAML::Node& root, const std::string& ba
         f.fail("colour_model.check_file: the check reads the colour model's votes, and no colour_model.file is loaded");
       } else {
         try {  // a check learnt over another colour model's colours is refused by its feature names
-          l.check = std::make_shared<const ColourModel>(
-              ColourModel::load(l.check_file, checkFeatureNames(l.model->colours()), "check model"));
+          l.check = std::make_shared<const DetectionCheck>(DetectionCheck::load(l.check_file, l.model->colours()));
         } catch (const std::invalid_argument& e) {
           f.fail(std::string("colour_model.check_file: ") + e.what());
         }

@@ -26,46 +26,46 @@ cv::Mat probes(const std::vector<std::vector<float>>& thresholds, int rows) {
 
 }  // namespace
 
-cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what) {
+void checkStoredTrees(const cv::FileNode& stored, int feature_count, const std::string& what, const std::string& kind) {
   auto integer = [&](const cv::FileNode& n, const std::string& name) {
-    if (!n.isInt()) throw std::invalid_argument(what + "forest: " + name + " is missing or not an integer");
+    if (!n.isInt()) throw std::invalid_argument(what + kind + ": " + name + " is missing or not an integer");
     return static_cast<int>(n);
   };
-  if (!forest.isMap()) throw std::invalid_argument(what + "no forest");
-  const int var_all = integer(forest["var_all"], "var_all"), var_count = integer(forest["var_count"], "var_count");
+  if (!stored.isMap()) throw std::invalid_argument(what + "no " + kind);
+  const int var_all = integer(stored["var_all"], "var_all"), var_count = integer(stored["var_count"], "var_count");
   if (var_count != feature_count || var_all != feature_count + 1) {
-    throw std::invalid_argument(what + "forest of " + std::to_string(var_count) + " features and " +
+    throw std::invalid_argument(what + kind + " of " + std::to_string(var_count) + " features and " +
                                 std::to_string(var_all - var_count) + " responses, not " +
                                 std::to_string(feature_count) + " and 1");
   }
   // Every feature ordered (0), the response a class (1): a categorical split reads a subset OpenCV does not check.
-  const cv::FileNode var_idx = forest["var_idx"], var_type = forest["var_type"];
+  const cv::FileNode var_idx = stored["var_idx"], var_type = stored["var_type"];
   if (!var_type.isSeq() || static_cast<int>(var_type.size()) != var_all) {
-    throw std::invalid_argument(what + "forest: var_type does not list " + std::to_string(var_all) + " variables");
+    throw std::invalid_argument(what + kind + ": var_type does not list " + std::to_string(var_all) + " variables");
   }
   for (int i = 0; i < var_all; ++i) {
     const cv::FileNode t = var_type[i];
     if (!t.isInt() || static_cast<int>(t) != (i < var_count ? 0 : 1)) {
-      throw std::invalid_argument(what + "forest: variable " + std::to_string(i) + " is not " +
+      throw std::invalid_argument(what + kind + ": variable " + std::to_string(i) + " is not " +
                                   (i < var_count ? "an ordered feature" : "the class"));
     }
   }
   if (!var_idx.empty()) {
     if (!var_idx.isSeq() || static_cast<int>(var_idx.size()) != var_count) {
-      throw std::invalid_argument(what + "forest: var_idx does not list " + std::to_string(var_count) + " features");
+      throw std::invalid_argument(what + kind + ": var_idx does not list " + std::to_string(var_count) + " features");
     }
     std::vector<bool> listed(static_cast<std::size_t>(var_count), false);
     for (const cv::FileNode& v : var_idx) {
       const int k = v.isInt() ? static_cast<int>(v) : -1;
       if (k < 0 || k >= var_count || listed[k]) {
-        throw std::invalid_argument(what + "forest: var_idx is not each of the " + std::to_string(var_count) +
+        throw std::invalid_argument(what + kind + ": var_idx is not each of the " + std::to_string(var_count) +
                                     " features once");
       }
       listed[k] = true;
     }
   }
-  const cv::FileNode trees = forest["trees"];
-  if (!trees.isSeq()) throw std::invalid_argument(what + "forest: no trees");
+  const cv::FileNode trees = stored["trees"];
+  if (!trees.isSeq()) throw std::invalid_argument(what + kind + ": no trees");
   int t = 0;
   for (const cv::FileNode& tree : trees) {
     int n = 0;
@@ -73,11 +73,11 @@ cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature
       for (const cv::FileNode& split : node["splits"]) {
         const int var = split["var"].isInt() ? static_cast<int>(split["var"]) : -1;
         if (!split["in"].empty() || !split["not_in"].empty()) {
-          throw std::invalid_argument(what + "forest: tree " + std::to_string(t) + " node " + std::to_string(n) +
+          throw std::invalid_argument(what + kind + ": tree " + std::to_string(t) + " node " + std::to_string(n) +
                                       " splits on a category");
         }
         if (var < 0 || var >= feature_count) {
-          throw std::invalid_argument(what + "forest: tree " + std::to_string(t) + " node " + std::to_string(n) +
+          throw std::invalid_argument(what + kind + ": tree " + std::to_string(t) + " node " + std::to_string(n) +
                                       " splits on feature " + (split["var"].isInt() ? std::to_string(var) : "(none)") +
                                       ", outside [0, " + std::to_string(feature_count) + ")");
         }
@@ -86,51 +86,66 @@ cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature
     }
     ++t;
   }
+}
+
+cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what) {
+  checkStoredTrees(forest, feature_count, what, "forest");
   cv::Ptr<cv::ml::RTrees> read = cv::ml::RTrees::create();
   read->read(forest);
   return read;
+}
+
+void checkTreeLinks(const cv::ml::DTrees& trees, int feature_count) {
+  const std::vector<cv::ml::DTrees::Node>& nodes = trees.getNodes();
+  const std::vector<cv::ml::DTrees::Split>& splits = trees.getSplits();
+  const int n = static_cast<int>(nodes.size());
+  for (int i = 0; i < n; ++i) {
+    const cv::ml::DTrees::Node& node = nodes[i];
+    if (node.split < 0) continue;
+    if (node.split >= static_cast<int>(splits.size()) || node.left < 0 || node.left >= n || node.right < 0 ||
+        node.right >= n) {
+      throw std::invalid_argument("node " + std::to_string(i) + " links outside the trees");
+    }
+    const int var = splits[node.split].varIdx;
+    if (var < 0 || var >= feature_count) {
+      throw std::invalid_argument("node " + std::to_string(i) + " splits on feature " + std::to_string(var));
+    }
+    // Every walk must end: children come after their parent in OpenCV's node order.
+    if (node.left <= i || node.right <= i) throw std::invalid_argument("node " + std::to_string(i) + " links back");
+  }
+  for (int r : trees.getRoots()) {
+    if (r < 0 || r >= n) throw std::invalid_argument("a tree's root lies outside the trees");
+  }
 }
 
 ForestVotes::ForestVotes(const cv::ml::RTrees& forest, int feature_count) {
   if (!forest.isTrained() || !forest.isClassifier() || forest.getVarCount() != feature_count || feature_count < 1) {
     throw std::invalid_argument("ForestVotes: no trained classifier forest of " + std::to_string(feature_count) + " features");
   }
+  try {
+    checkTreeLinks(forest, feature_count);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("ForestVotes: ") + e.what());
+  }
   const std::vector<cv::ml::DTrees::Node>& nodes = forest.getNodes();
   const std::vector<cv::ml::DTrees::Split>& splits = forest.getSplits();
-  const std::vector<int>& roots = forest.getRoots();
-  const int n = static_cast<int>(nodes.size());
   nodes_.resize(nodes.size());
   std::vector<std::vector<float>> thresholds(feature_count);
-  for (int i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
     const cv::ml::DTrees::Node& in = nodes[i];
     Node& out = nodes_[i];
     if (in.split < 0) {
       out.label_index = in.classIdx;
       continue;
     }
-    if (in.split >= static_cast<int>(splits.size()) || in.left < 0 || in.left >= n || in.right < 0 || in.right >= n) {
-      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " links outside the forest");
-    }
     const cv::ml::DTrees::Split& s = splits[in.split];
-    if (s.varIdx < 0 || s.varIdx >= feature_count) {
-      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " splits on feature " + std::to_string(s.varIdx));
-    }
     out.feature = s.varIdx;
     out.threshold = s.c;
     out.left = in.left;
     out.right = in.right;
     thresholds[s.varIdx].push_back(s.c);
   }
-  for (int r : roots) {
-    if (r < 0 || r >= n) throw std::invalid_argument("ForestVotes: a tree's root lies outside the forest");
-  }
-  roots_ = roots;
-  // Every walk must end: children come after their parent in OpenCV's node order.
-  for (int i = 0; i < n; ++i) {
-    if (nodes_[i].feature >= 0 && (nodes_[i].left <= i || nodes_[i].right <= i)) {
-      throw std::invalid_argument("ForestVotes: node " + std::to_string(i) + " links back");
-    }
-  }
+  roots_ = forest.getRoots();
   // The links are sound: OpenCV's own walk is safe now, and gives the labels.
   cv::Mat votes;
   forest.getVotes(cv::Mat::zeros(1, feature_count, CV_32F), votes, 0);

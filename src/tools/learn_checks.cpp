@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "underwater_stereo/detection/colour_model.h"
 #include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/detector_config.h"
 #include "tool_helpers.h"
@@ -20,13 +20,15 @@ namespace {
 using namespace underwater_stereo;
 
 const char* kUsage =
-    "usage: learn_checks --config DETECTOR.yaml --out CHECK.yml.gz RECORDS.json...\n"
+    "usage: learn_checks --config DETECTOR.yaml --out CHECK.yml.gz [--colours-from CHECK.yml.gz] RECORDS.json...\n"
     "  RECORDS: evaluate_detector --config DETECTOR.yaml --random N --seed S --without-check --json RECORDS\n"
     "  (seeds never used for judging). DETECTOR.yaml names the colour model the records were made with.\n"
     "  Learns from each detection: the first one on an object of a designated colour (0.5-5 m, >= 400 px) as\n"
     "  that colour; one on a distractor, on the background, or a second one on an object as background; one on\n"
     "  an object too small, near or far not at all. Name the model in the configuration as\n"
-    "  colour_model.check_file.\n";
+    "  colour_model.check_file. Boosted trees decide object or background; a forest names colours, learnt from\n"
+    "  the same detections or, with --colours-from, the forest of that check file (a check of an earlier build\n"
+    "  too) kept as it is.\n";
 
 constexpr int kBackground = -1;
 
@@ -92,7 +94,7 @@ void addRecords(const std::string& path, const std::vector<std::string>& colours
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::map<std::string, std::string> values{{"--config", ""}, {"--out", ""}};
+  std::map<std::string, std::string> values{{"--config", ""}, {"--out", ""}, {"--colours-from", ""}};
   std::vector<std::string> inputs;
   if (const int code = tools::parseRecordsCommandLine(argc, argv, "learn_checks", kUsage, values, inputs); code >= 0) {
     return code;
@@ -118,13 +120,12 @@ int main(int argc, char** argv) {
     Samples samples;
     samples.rows = cv::Mat(0, static_cast<int>(names.size()), CV_32F);
     for (const std::string& path : inputs) addRecords(path, colours, names.size(), samples);
-    // Deeper trees than the colour model's, every class weighted alike (chosen on validation seeds 60000-60299).
-    ColourModelTraining training;
-    training.max_depth = 12;
-    training.balance = 0;
+    // CheckTraining's defaults: chosen on the records of seeds 86000-87999 and validation seeds 60000-60299.
+    std::optional<ColourModel> naming;
+    if (!values["--colours-from"].empty()) naming = ColourModel::load(values["--colours-from"], names, "check model");
     tools::trainOnRecords(inputs, samples.labels.size(), "detections", [&] {
-      return ColourModel::train(samples.rows, samples.labels, colours, training, names);
-    }).save(out, "check model");
+      return DetectionCheck::train(samples.rows, samples.labels, colours, CheckTraining{}, naming ? &*naming : nullptr);
+    }).save(out);
     std::map<int, int> counts;
     for (int l : samples.labels) ++counts[l];
     std::cout << "learnt from " << samples.labels.size() << " detections (background " << counts[kBackground];

@@ -31,6 +31,9 @@ struct ColourVerdict {
 /// Training options of the colour model (the background is the reference class of `balance`).
 using ColourModelTraining = ForestTraining;
 
+/// The model file at `path` opened for reading. @throw std::invalid_argument beginning with `named` when it cannot be.
+cv::FileStorage openModelFile(const std::string& path, const std::string& named);
+
 class ColourModel {
  public:
   ColourModel() = default;
@@ -45,8 +48,13 @@ class ColourModel {
   /// @throw std::invalid_argument naming the file when it cannot be read or is not a model of these features.
   static ColourModel load(const std::string& path, const std::vector<std::string>& features = blobFeatureNames(),
                           const std::string& what = "colour model");
+  /// A model of `features` from the top level of an opened model file (openModelFile); `named` names the file in
+  /// errors. @throw std::invalid_argument as load().
+  static ColourModel read(const cv::FileStorage& fs, const std::vector<std::string>& features, const std::string& named);
   /// @throw std::runtime_error naming the file (as `what`) when it cannot be written.
   void save(const std::string& path, const std::string& what = "colour model") const;
+  /// Writes the model at the top level of `fs` (a file save() or a file holding more than the model).
+  void write(cv::FileStorage& fs) const;
 
   bool empty() const { return forest_.empty(); }
   const std::vector<std::string>& colours() const { return colours_; }

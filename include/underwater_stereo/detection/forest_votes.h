@@ -17,12 +17,21 @@
 
 namespace underwater_stereo {
 
-/// The forest stored by cv::ml::RTrees::write at `forest` (the node of a model file), read by OpenCV after it has
-/// been checked: OpenCV checks a split's feature index only against one past the last one and then reads out of
-/// bounds with it, so a corrupt index crashed the reader. `what` names the file in the message.
+/// Checks the trees stored by cv::ml::RTrees::write or cv::ml::Boost::write at `stored` (the node of a model file)
+/// before OpenCV reads them: OpenCV checks a split's feature index only against one past the last one and then reads
+/// out of bounds with it, so a corrupt index crashed the reader. `what` names the file and `kind` the trees
+/// ("forest") in the message.
 /// @throw std::invalid_argument naming the tree and node when the sizes and types are not those of `feature_count`
 /// ordered features and a class, or a split names a feature outside [0, feature_count) or a category.
+void checkStoredTrees(const cv::FileNode& stored, int feature_count, const std::string& what, const std::string& kind);
+
+/// The forest stored by cv::ml::RTrees::write at `forest`, read by OpenCV once checkStoredTrees passed it.
 cv::Ptr<cv::ml::RTrees> readStoredForest(const cv::FileNode& forest, int feature_count, const std::string& what);
+
+/// Checks that every split of `trees` (a forest or boosted trees, read from a file) names a split and one of
+/// `feature_count` features, and links forward to nodes inside the trees, so that every walk ends inside them.
+/// @throw std::invalid_argument naming the node that does not.
+void checkTreeLinks(const cv::ml::DTrees& trees, int feature_count);
 
 class ForestVotes {
  public:

@@ -13,6 +13,7 @@
 #include "underwater_stereo/detection/candidate_finder.h"
 #include "underwater_stereo/detection/colour_model.h"
 #include "underwater_stereo/detection/colour_segmenter.h"
+#include "underwater_stereo/detection/detection_check.h"
 #include "underwater_stereo/detection/water_contrast.h"
 
 namespace underwater_stereo {
@@ -30,8 +31,8 @@ struct LearnedColourConfig {
   std::shared_ptr<const ColourModel> model;  ///< loaded from `file`
   /// The check after stereo (detection_check.h; learn_checks writes it), resolved like `file`; empty: none.
   std::string check_file;
-  /// Share of the check's trees that must vote for an object (any colour, not background) for a detection to be
-  /// reported.
+  /// How sure the check must be that a detection is an object (any colour, not background) for it to be reported:
+  /// DetectionCheck::objectScore, 0-1, 0.5 where the boosted trees' votes even out.
   double check_min_confidence = 0.5;
   /// With a check, regions with this share of the colour model's votes go on to stereo and the check (in place of
   /// min_confidence, which stays the decision where nothing is measured in 3D: detect2d, detect_files --image).
@@ -40,7 +41,7 @@ struct LearnedColourConfig {
   /// the colour model's colour by more than this (1: the colour model's colour always). Not in a dark frame (darker than
   /// quality.enhance_below): the check learnt the colours of few such frames and misnames them.
   double check_rename_margin = 0.15;
-  std::shared_ptr<const ColourModel> check;  ///< loaded from `check_file`, over checkFeatureNames(model->colours())
+  std::shared_ptr<const DetectionCheck> check;  ///< loaded from `check_file`, over checkFeatureNames(model->colours())
 
   std::vector<std::string> validate() const;
 };
