@@ -119,12 +119,16 @@ void DetectionCheck::save(const std::string& path) const {
   fs << "}";
 }
 
-double DetectionCheck::objectScore(const std::vector<float>& features) const {
-  if (empty()) throw std::invalid_argument("DetectionCheck::objectScore: empty check");
+void DetectionCheck::requireFeatures(const std::vector<float>& features, const char* caller) const {
+  if (empty()) throw std::invalid_argument(std::string(caller) + ": empty check");
   if (static_cast<int>(features.size()) != width_) {
-    throw std::invalid_argument("DetectionCheck::objectScore: " + std::to_string(features.size()) + " features, not " +
+    throw std::invalid_argument(std::string(caller) + ": " + std::to_string(features.size()) + " features, not " +
                                 std::to_string(width_) + " (a candidate no colour model found?)");
   }
+}
+
+double DetectionCheck::objectScore(const std::vector<float>& features) const {
+  requireFeatures(features, "DetectionCheck::objectScore");
   const cv::Mat row(1, width_, CV_32F, const_cast<float*>(features.data()));
   const double sum = object_->predict(row, cv::noArray(), cv::ml::DTrees::PREDICT_SUM | cv::ml::StatModel::RAW_OUTPUT);
   const double trees = static_cast<double>(object_->getRoots().size());
@@ -132,11 +136,7 @@ double DetectionCheck::objectScore(const std::vector<float>& features) const {
 }
 
 ColourVerdict DetectionCheck::colourVerdict(const std::vector<float>& features) const {
-  if (empty()) throw std::invalid_argument("DetectionCheck::colourVerdict: empty check");
-  if (static_cast<int>(features.size()) != width_) {
-    throw std::invalid_argument("DetectionCheck::colourVerdict: " + std::to_string(features.size()) +
-                                " features, not " + std::to_string(width_));
-  }
+  requireFeatures(features, "DetectionCheck::colourVerdict");
   return colours_.classify(cv::Mat(features, true).reshape(1, 1)).front();
 }
 

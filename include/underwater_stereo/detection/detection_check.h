@@ -84,6 +84,9 @@ class DetectionCheck {
   ColourVerdict colourVerdict(const std::vector<float>& features) const;
 
  private:
+  /// @throw std::invalid_argument naming `caller` when the check is empty or `features` is not one row of its width.
+  void requireFeatures(const std::vector<float>& features, const char* caller) const;
+
   ColourModel colours_;
   cv::Ptr<cv::ml::Boost> object_;
   int width_ = 0;  ///< features per detection
