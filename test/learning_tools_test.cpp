@@ -184,6 +184,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
       {"--out " + model + " " + good + " " + (dir / "." / "good.json").string(), 2, "good.json is given twice (also as " + good},
       {"--out " + (dir / "folder").string() + " " + good, 2, "--out " + (dir / "folder").string() + " is a folder: give the"},
       {"--out " + (dir / "missing" / "m.yml.gz").string() + " " + good, 2, "is not a writable folder"},
+      // The output one of the records: it would be overwritten (a probe found both learners did so).
+      {"--out " + (dir / "." / "good.json").string() + " " + good, 2, "is also a records file to learn from"},
   };
   // The two learners' command lines before their own options (learn_checks reads the detector's colours).
   const std::string learners[] = {std::string(UWS_LEARN_CHECKS) + " --config " UWS_SOURCE_DIR "/config/detector.yaml",
@@ -196,6 +198,7 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
       EXPECT_FALSE(fs::exists(model)) << learner << " " << c.args;
     }
   }
+  EXPECT_EQ(readText(good), records(checkFeatureNames(base.learned.model->colours()).size(), true)) << "a records file kept";
   // A shape feature that is no number: a malformed record, named with its file and pair.
   std::string row = "[\"x\"";
   for (int i = 1; i < kShapeFeatureCount; ++i) row += ", 0.5";

@@ -65,14 +65,25 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
+    // A number option's value: the whole of it a number (a whole one where `whole`), else exit 2 naming it.
+    auto number = [&](bool whole, double lo, double hi) {
+      const std::string text = value();
+      double v = 0;
+      if (!tools::parseNumber(text, v) || !(v >= lo && v <= hi) || (whole && v != std::floor(v))) {
+        std::cerr << "benchmark_detector: " << a << " " << text << ": expected " << (whole ? "a whole number" : "a number")
+                  << " in [" << lo << ", " << hi << "]\n" << kUsage;
+        std::exit(2);
+      }
+      return v;
+    };
     if (a == "--config") config_path = value();
-    else if (a == "--frames") frames = std::stoi(value());
-    else if (a == "--rate") rate = std::stod(value());
-    else if (a == "--repeat") repeat = std::stoi(value());
+    else if (a == "--frames") frames = static_cast<int>(number(true, 1, 1e6));
+    else if (a == "--rate") rate = number(false, 1e-3, 1e3);
+    else if (a == "--repeat") repeat = static_cast<int>(number(true, 1, 1e4));
     else if (a == "--csv") csv_path = value();
     else if (a == "--summary") summary = true;
-    else if (a == "--pace") pace_hz = std::stod(value());
-    else if (a == "--opencv-threads") cv::setNumThreads(std::stoi(value()));
+    else if (a == "--pace") pace_hz = number(false, 0, 1e3);
+    else if (a == "--opencv-threads") cv::setNumThreads(static_cast<int>(number(true, 0, 256)));
     else if (a == "--help" || a == "-h") {
       std::cout << kUsage;
       return 0;
@@ -87,6 +98,10 @@ int main(int argc, char** argv) {
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
+    if (!csv.is_open()) {
+      std::cerr << "benchmark_detector: --csv " << csv_path << ": cannot be written\n";
+      return 2;
+    }
     csv << "scene,frame,objects,mean_range_m,quality_ms,colour_ms,contours_ms,rectify_ms,matching_ms,reprojection_ms,"
            "cluster_ms,fit_ms,total_ms\n";
   }

@@ -190,13 +190,20 @@ inline int parseRecordsCommandLine(int argc, char** argv, const std::string& too
 }
 
 /// A learning tool's output file and records files checked before any record is read (checkWritableFile,
-/// refuseRepeated): @return -1 to go on, or 2 with the problem and the usage printed.
+/// refuseRepeated, and the output is none of the records: it would overwrite one): @return -1 to go on, or 2 with the
+/// problem and the usage printed.
 inline int checkOutputAndRecords(const std::string& tool, const char* usage, const std::string& out,
                                  const std::string& out_what, const std::vector<std::string>& records,
                                  const std::string& learnt_twice) {
   try {
     checkWritableFile("--out", out, out_what);
     refuseRepeated("", records, learnt_twice);
+    for (const std::string& r : records) {
+      std::error_code error;
+      if (r == out || std::filesystem::equivalent(r, out, error)) {
+        throw std::invalid_argument("--out " + out + " is also a records file to learn from: it would be overwritten");
+      }
+    }
   } catch (const std::invalid_argument& e) {
     std::cerr << tool << ": " << e.what() << "\n" << usage;
     return 2;
