@@ -237,6 +237,48 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   EXPECT_EQ(colourOfLabel("gate", with_gate), -1);
   EXPECT_EQ(colourOfLabel("green", with_gate), 1);
   EXPECT_EQ(colourOfLabel("buoy_red", with_gate), 0);
+  // A background label that names a colour would be learnt as that colour: refused.
+  LearningOptions red_as_background = options();
+  red_as_background.background_labels = {"buoy_red"};
+  const std::vector<std::string> problems = red_as_background.validate();
+  ASSERT_EQ(problems.size(), 1U);
+  EXPECT_NE(problems[0].find("background label 'buoy_red' names the colour red"), std::string::npos) << problems[0];
+}
+
+TEST(ColourLearning, AnAnnotationsDeclaredSizeMustBeItsImages) {
+  auto messageOf = [](const std::function<void()>& f) {
+    try {
+      f();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string object = "<object><name>red</name><bndbox><xmin>10</xmin><ymin>5</ymin><xmax>30</xmax>"
+                             "<ymax>25</ymax></bndbox></object>";
+  cv::Size declared;
+  readVocLabels(writeTemp("sized.xml", "<annotation><size><width>160</width><height>120</height><depth>3</depth>"
+                                       "</size>" + object + "</annotation>"), &declared);
+  EXPECT_EQ(declared, cv::Size(160, 120));
+  readVocLabels(writeTemp("unsized.xml", "<annotation>" + object + "</annotation>"), &declared);
+  EXPECT_TRUE(declared.empty());
+  readVocLabels(writeTemp("zero.xml", "<annotation><size><width>0</width><height>0</height></size>" + object +
+                                      "</annotation>"), &declared);
+  EXPECT_TRUE(declared.empty()) << "0 x 0 is how some tools write an unknown size";
+  const std::string bad = writeTemp("bad_size.xml", "<annotation><size><width>16O</width><height>120</height></size>" +
+                                                    object + "</annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(bad, &declared); }).find(bad + ": <size> <width> '16O' is not a whole number"),
+            std::string::npos) << messageOf([&] { readVocLabels(bad, &declared); });
+
+  LabelledFrame f;
+  f.name = "frame_9.jpg";
+  f.image = cv::Mat(120, 160, CV_8UC3, cv::Scalar::all(90));
+  f.labels = {{"red", cv::Rect(10, 5, 20, 20)}, {"green", cv::Rect(50, 5, 20, 20)}};
+  f.declared_size = cv::Size(1920, 1200);
+  const std::string m = messageOf([&] { checkLabels({f}, options()); });
+  EXPECT_NE(m.find("frame_9.jpg: its annotation declares a 1920x1200 image, the image is 160x120"), std::string::npos) << m;
+  f.declared_size = cv::Size(160, 120);
+  EXPECT_NO_THROW(checkLabels({f}, options()));
 }
 
 TEST(ColourLearning, ChoosesPerColourThresholdsWithinTheFalseBudget) {

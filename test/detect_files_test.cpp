@@ -127,6 +127,19 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
                     path("right.yaml"));
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.lines.size(), pair_.ground_truth.size());
+  // A stray word, a pattern that matches nothing and an unclosed quote in a list are each named (exit 2).
+  auto firstLine = [&](const std::string& args) {
+    const ToolRun r = run(args, true);
+    return std::to_string(r.status) + " " + (r.lines.empty() ? std::string() : r.lines[0]);
+  };
+  EXPECT_NE(firstLine("--image " + path("left.png") + " stray.png").find("2 detect_files: stray argument 'stray.png'"),
+            std::string::npos) << firstLine("--image " + path("left.png") + " stray.png");
+  EXPECT_NE(firstLine("--left '" + path("left*.png") + "' --right '" + path("nothing_*.png") + "'")
+                .find("--right '" + path("nothing_*.png") + "': no file matches the pattern"),
+            std::string::npos);
+  std::ofstream(path("quote.txt")) << "\"" << path("left.png") << "\n";
+  EXPECT_NE(firstLine("--list " + path("quote.txt")).find(path("quote.txt") + ":1: a double quote not closed"),
+            std::string::npos) << firstLine("--list " + path("quote.txt"));
   // A grey image is searched, and said to hold no colour.
   cv::Mat grey;
   cv::cvtColor(pair_.left, grey, cv::COLOR_BGR2GRAY);

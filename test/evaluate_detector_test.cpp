@@ -68,7 +68,13 @@ TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
                {"--random 2 --size 640x400x3", "--size: '640x400x3' is not WIDTHxHEIGHT"},
                {"--random 2 --luma 40,12", "--luma 40,12: target_luma"},
                {"--random 2 --luma 12", "--luma: '12' is not LO,HI"},
-               {"--paper-brightness --luma 12,40", "--luma goes with --random, not with --paper-brightness"}};
+               {"--paper-brightness --luma 12,40", "--luma goes with --random, not with --paper-brightness"},
+               {"--random 2 --seed 12abc", "--seed: '12abc' is not a whole number"},
+               {"--random 2 --jobs 1.5", "--jobs: '1.5' is not a whole number"},
+               {"--random 2 --worst 3 " UWS_SOURCE_DIR "/package.xml", "/package.xml: not a folder that can be made"},
+               {"--random 2 --json /nonexistent/records.json", "--json /nonexistent/records.json: its folder"},
+               // A rig the simulator renders but the detector refuses: named before anything is rendered.
+               {"--random 2 --size 32x32", "the sampled scenes (--size): the detector refuses its rig"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;

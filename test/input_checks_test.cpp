@@ -104,6 +104,23 @@ TEST(ImageFile, IntactFilesAreReadAsImreadReadsThem) {
   }
 }
 
+TEST(ImageFile, AnExifOrientationIsIgnoredThePixelsStayAsTheSensorWroteThem) {
+  // A JPEG whose EXIF says "rotate 90 degrees clockwise to view" (orientation 6): a camera's calibration and a
+  // VOC tool's boxes are in the stored pixel layout, so the image is read as stored, not turned.
+  cv::Mat image(48, 64, CV_8UC3, cv::Scalar(0, 0, 0));
+  image(cv::Rect(0, 0, 16, 12)).setTo(cv::Scalar(255, 255, 255));
+  std::string jpeg = encodedImage(".jpg", image);
+  const std::string tiff("MM\0*\0\0\0\x08\0\x01\x01\x12\0\x03\0\0\0\x01\0\x06\0\0\0\0\0\0", 26);
+  const std::string exif = std::string("Exif\0\0", 6) + tiff;
+  const std::string app1 = std::string("\xff\xe1", 2) + char((exif.size() + 2) >> 8) + char((exif.size() + 2) & 0xff) + exif;
+  jpeg.insert(2, app1);
+  const std::string path = tempFile("exif6.jpg", jpeg);
+  ASSERT_EQ(cv::imread(path, cv::IMREAD_COLOR).size(), cv::Size(48, 64)) << "the EXIF tag is not the one OpenCV reads";
+  const cv::Mat read = readImageFile(path);
+  ASSERT_EQ(read.size(), image.size());
+  EXPECT_GT(cv::mean(read(cv::Rect(0, 0, 16, 12)))[0], 200.0);
+}
+
 TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
   cv::Mat eight(48, 64, CV_8UC3);
   cv::randu(eight, cv::Scalar::all(0), cv::Scalar::all(256));

@@ -82,6 +82,35 @@ TEST(LearnColours, AGreyFrameIsRefusedNamingIt) {
   fs::remove_all(dir);
 }
 
+// learn_colours refuses, before learning, what would be learnt wrongly or not at all: two images of one frame, an
+// annotation without its image, held-out detections asked for without folds, a fractional fold count.
+TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
+  const fs::path dir = fs::temp_directory_path() / ("learn_colours_frames_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "images");
+  fs::create_directories(dir / "annotations");
+  cv::Mat frame(120, 160, CV_8UC3, cv::Scalar(120, 90, 30));
+  cv::circle(frame, {80, 60}, 20, cv::Scalar(30, 40, 200), -1);
+  cv::imwrite((dir / "images/frame.png").string(), frame);
+  cv::imwrite((dir / "images/frame.jpg").string(), frame);
+  const std::string label = "<annotation><object><name>buoy_red</name><bndbox><xmin>60</xmin><ymin>40</ymin>"
+                            "<xmax>100</xmax><ymax>80</ymax></bndbox></object></annotation>";
+  std::ofstream(dir / "annotations/frame.xml") << label;
+  std::ofstream(dir / "annotations/lost.xml") << label;
+  const std::string learn = std::string(UWS_LEARN_COLOURS) + " --images " + (dir / "images").string() +
+                            " --annotations " + (dir / "annotations").string() + " --out " + (dir / "out.yaml").string();
+  EXPECT_EQ(runTool(learn, dir / "learn.log"), 1);
+  const std::string log = readText(dir / "learn.log");
+  EXPECT_NE(log.find("frame.png and frame.jpg share the annotation frame.xml"), std::string::npos) << log;
+  EXPECT_NE(log.find("annotations/lost.xml: no image of that name"), std::string::npos) << log;
+  EXPECT_EQ(runTool(learn + " --folds 1 --detections-out " + (dir / "d.json").string(), dir / "learn.log"), 2);
+  EXPECT_NE(readText(dir / "learn.log").find("--detections-out needs cross-validation"), std::string::npos);
+  EXPECT_EQ(runTool(learn + " --folds 2.5", dir / "learn.log"), 2);
+  EXPECT_NE(readText(dir / "learn.log").find("--folds: '2.5' is not a whole number in [1, 100]"), std::string::npos)
+      << readText(dir / "learn.log");
+  EXPECT_FALSE(fs::exists(dir / "out.yaml"));
+  fs::remove_all(dir);
+}
+
 namespace {
 
 /// evaluate_detector --random records of one pair: a found red object, a detection on a distractor, one on an
@@ -219,6 +248,20 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
               std::string::npos)
         << readText(dir / "learn.log");
   }
+  // A list that is no list (iterating it would find nothing, silently).
+  std::ofstream(dir / "objects_text.json") << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 4, \"objects\": \"x\"}]}";
+  for (const std::string& learner : learners) {
+    const std::string command = learner + " --out " + model + " " + (dir / "objects_text.json").string();
+    EXPECT_EQ(runTool(command, dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("objects_text.json: seed 4: malformed record (\"objects\" is not a list)"),
+              std::string::npos)
+        << readText(dir / "learn.log");
+  }
+  // learn_checks' configuration is part of its command line: a missing one exits 2, as a bad option does.
+  EXPECT_EQ(runTool(std::string(UWS_LEARN_CHECKS) + " --config /nonexistent.yaml --out " + model + " " + good,
+                    dir / "learn.log"),
+            2);
+  EXPECT_NE(readText(dir / "learn.log").find("/nonexistent.yaml"), std::string::npos) << readText(dir / "learn.log");
   // Records with nothing to learn from: the trainer's refusal named with the file and the count.
   const std::string empty = (dir / "empty.json").string();
   std::ofstream(empty) << "{\"config\": \"c --without-check\", \"pairs\": []}";
@@ -227,7 +270,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     EXPECT_EQ(runTool(command + " " + empty, dir / "learn.log"), 1) << command;
     const std::string log = readText(dir / "learn.log");
     EXPECT_TRUE(log.find(empty + ": 0 objects to learn from: ShapeModel::train: no samples of") != std::string::npos ||
-                log.find(empty + ": 0 detections to learn from: ColourModel::train: no background samples") != std::string::npos)
+                log.find(empty + ": 0 detections to learn from: DetectionCheck::train: no background samples") !=
+                    std::string::npos)
         << command << ": " << log;
     EXPECT_FALSE(fs::exists(model)) << command;
   }

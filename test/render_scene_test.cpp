@@ -59,6 +59,9 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
   }
   EXPECT_EQ(run("--random 2 --scene x.yaml --out " + out.string()), 2);  // modes do not mix
   EXPECT_EQ(run("--random 2"), 2);                                       // no --out
+  EXPECT_EQ(run("--random 2 --seed 12abc --out " + out.string()), 2);    // a number with text after it
+  EXPECT_EQ(run("--random 2.5 --out " + out.string()), 2);
+  EXPECT_EQ(run("--scene /nonexistent.yaml --png-dir " + out.string()), 2);  // a scene that cannot be read
   fs::remove_all(out);
 }
 
@@ -66,7 +69,8 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
 TEST(RenderScene, StampsAndTopicsABagCannotHoldAreRefused) {
   const fs::path bag = fs::temp_directory_path() / ("render_scene_refused_" + std::to_string(::getpid()) + ".bag");
   const std::string scene = " --scene " UWS_SOURCE_DIR "/test/scenes/small_pool.yaml --frames 1 --bag " + bag.string();
-  for (const char* bad : {"--start-time nan", "--start-time -5", "--start-time 1e300", "--namespace 'bad name!'"}) {
+  for (const char* bad : {"--start-time nan", "--start-time -5", "--start-time 1e300", "--namespace 'bad name!'",
+                          "--frames 2abc", "--rate 0", "--rate 15hz", "--start-time 4294967295"}) {
     EXPECT_EQ(run(std::string(bad) + scene), 2) << bad;
     EXPECT_FALSE(fs::exists(bag)) << bad;
   }

@@ -28,9 +28,42 @@ std::string trimmed(const std::string& s) {
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
+/// A label's colour part: what follows its last '_' (buoy_red -> red), or all of it.
+std::string afterLastUnderscore(const std::string& label) {
+  const std::size_t underscore = label.find_last_of('_');
+  return underscore == std::string::npos ? label : label.substr(underscore + 1);
+}
+
 std::string boxText(const cv::Rect& r) {
   return "[" + std::to_string(r.x) + ", " + std::to_string(r.y) + ", " + std::to_string(r.br().x) + ", " +
          std::to_string(r.br().y) + "]";
+}
+
+/// The image size a VOC <annotation>'s <size> declares (empty when it has none, or a side of 0). @throw
+/// std::invalid_argument naming `path` when its <width> or <height> is no whole number in [0, kMaxImageSidePx].
+cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string& path) {
+  const tinyxml2::XMLElement* size = annotation.FirstChildElement("size");
+  if (!size) return {};
+  int side[2] = {0, 0};
+  const char* keys[2] = {"width", "height"};
+  for (int k = 0; k < 2; ++k) {
+    const tinyxml2::XMLElement* field = size->FirstChildElement(keys[k]);
+    const std::string value = trimmed(field && field->GetText() ? field->GetText() : "");
+    std::size_t used = 0;
+    long n = 0;
+    try {
+      n = std::stol(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != value.size() || n < 0 || n > kMaxImageSidePx) {
+      throw std::invalid_argument(path + ": <size> <" + keys[k] + "> '" + value + "' is not a whole number in [0, " +
+                                  std::to_string(kMaxImageSidePx) + "]");
+    }
+    side[k] = static_cast<int>(n);
+  }
+  if (side[0] == 0 || side[1] == 0) return {};  // some tools write 0 x 0 for "not known"
+  return {side[0], side[1]};
 }
 
 }  // namespace
@@ -45,7 +78,7 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box) {
   return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;
 }
 
-std::vector<LabelBox> readVocLabels(const std::string& path) {
+std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_size) {
   // An XML library, not a text search: comments, attributes, a <part>'s own <bndbox> and unclosed elements are
   // XML's business (a search took a commented-out object, skipped <object id="0">, took a part's box).
   std::ifstream in(path);
@@ -59,6 +92,7 @@ std::vector<LabelBox> readVocLabels(const std::string& path) {
   }
   const tinyxml2::XMLElement* annotation = doc.RootElement();
   if (!annotation || std::string(annotation->Name()) != "annotation") throw std::invalid_argument(not_voc);
+  if (declared_size != nullptr) *declared_size = declaredSize(*annotation, path);
   std::vector<LabelBox> out;
   int index = 0;
   for (const tinyxml2::XMLElement* object = annotation->FirstChildElement("object"); object;
@@ -116,12 +150,18 @@ std::vector<std::string> LearningOptions::validate() const {
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
   if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
+  for (const std::string& b : background_labels) {
+    const std::string suffix = afterLastUnderscore(b);
+    if (std::find(colours.begin(), colours.end(), suffix) != colours.end()) {
+      p.push_back("background label '" + b + "' names the colour " + suffix + " (by its name or the part after its " +
+                  "last '_'): it would be learnt as " + suffix + ", not as background");
+    }
+  }
   return p;
 }
 
 int colourOfLabel(const std::string& name, const LearningOptions& options) {
-  const std::size_t underscore = name.find_last_of('_');
-  const std::string suffix = underscore == std::string::npos ? name : name.substr(underscore + 1);
+  const std::string suffix = afterLastUnderscore(name);
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
     if (name == options.colours[k] || suffix == options.colours[k]) return static_cast<int>(k);
   }
@@ -143,6 +183,12 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
       continue;
     }
     const cv::Rect image(0, 0, f.image.cols, f.image.rows);
+    if (!f.declared_size.empty() && f.declared_size != image.size()) {
+      problems.push_back(f.name + ": its annotation declares a " + std::to_string(f.declared_size.width) + "x" +
+                         std::to_string(f.declared_size.height) + " image, the image is " + std::to_string(image.width) +
+                         "x" + std::to_string(image.height) + " (labels of another image, or of a resized copy)");
+      continue;
+    }
     for (std::size_t i = 0; i < f.labels.size(); ++i) {
       const LabelBox& l = f.labels[i];
       const std::string where = f.name + ": box " + std::to_string(i) + " (" + l.name + ") " + boxText(l.box);

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/blob_proposals.h"
@@ -16,29 +15,35 @@ constexpr int kBackground = 0;
 
 }  // namespace
 
+std::vector<int> countColourLabels(const cv::Mat& samples, const std::vector<int>& labels,
+                                   const std::vector<std::string>& colours, const std::vector<std::string>& features,
+                                   const std::string& who) {
+  const int width = static_cast<int>(features.size());
+  if (samples.type() != CV_32FC1 || width == 0 || samples.cols != width || samples.rows != static_cast<int>(labels.size())) {
+    throw std::invalid_argument(who + ": need one CV_32F row of " + std::to_string(width) + " features per label");
+  }
+  if (colours.empty()) throw std::invalid_argument(who + ": no colours to learn");
+  std::vector<int> counts(colours.size() + 1, 0);
+  for (int l : labels) {
+    if (l < -1 || l >= static_cast<int>(colours.size())) throw std::invalid_argument(who + ": label out of range");
+    ++counts[static_cast<std::size_t>(l + 1)];
+  }
+  if (counts[kBackground] == 0) throw std::invalid_argument(who + ": no background samples");
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    if (counts[k + 1] == 0) throw std::invalid_argument(who + ": no samples of colour '" + colours[k] + "'");
+  }
+  return counts;
+}
+
 ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& labels,
                                const std::vector<std::string>& colours, const ColourModelTraining& options,
                                const std::vector<std::string>& features) {
   const auto problems = options.validate();
   if (!problems.empty()) throw std::invalid_argument("ColourModel::train: " + problems.front());
+  const std::vector<int> counts = countColourLabels(samples, labels, colours, features, "ColourModel::train");
   const int width = static_cast<int>(features.size());
-  if (samples.type() != CV_32FC1 || width == 0 || samples.cols != width || samples.rows != static_cast<int>(labels.size())) {
-    throw std::invalid_argument("ColourModel::train: need one CV_32F row of " + std::to_string(width) +
-                                " features per label");
-  }
-  if (colours.empty()) throw std::invalid_argument("ColourModel::train: no colours to learn");
-  std::vector<int> counts(colours.size() + 1, 0);
   cv::Mat responses(samples.rows, 1, CV_32SC1);
-  for (int i = 0; i < samples.rows; ++i) {
-    const int l = labels[i];
-    if (l < -1 || l >= static_cast<int>(colours.size())) throw std::invalid_argument("ColourModel::train: label out of range");
-    responses.at<int>(i) = l + 1;
-    ++counts[l + 1];
-  }
-  if (counts[kBackground] == 0) throw std::invalid_argument("ColourModel::train: no background samples");
-  for (std::size_t k = 0; k < colours.size(); ++k) {
-    if (counts[k + 1] == 0) throw std::invalid_argument("ColourModel::train: no samples of colour '" + colours[k] + "'");
-  }
+  for (int i = 0; i < samples.rows; ++i) responses.at<int>(i) = labels[static_cast<std::size_t>(i)] + 1;
   cv::Mat priors(1, static_cast<int>(counts.size()), CV_32F);
   for (std::size_t k = 0; k < counts.size(); ++k) {
     priors.at<float>(static_cast<int>(k)) =
@@ -51,18 +56,6 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   m.forest_ = trainForest(samples, responses, priors, options);
   m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
   return m;
-}
-
-cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
-  if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    throw std::invalid_argument(named + ": unreadable (" + e.msg + ")");
-  }
-  if (!fs.isOpened()) throw std::invalid_argument(named + ": cannot be opened");
-  return fs;
 }
 
 ColourModel ColourModel::load(const std::string& path, const std::vector<std::string>& names, const std::string& what) {
@@ -99,8 +92,7 @@ ColourModel ColourModel::read(const cv::FileStorage& fs, const std::vector<std::
 
 void ColourModel::save(const std::string& path, const std::string& what) const {
   if (empty()) throw std::runtime_error("ColourModel::save: empty model");
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw std::runtime_error(what + " " + path + ": cannot be written");
+  cv::FileStorage fs = createModelFile(path, what + " " + path);
   write(fs);
 }
 

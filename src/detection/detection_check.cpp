@@ -57,11 +57,12 @@ DetectionCheck DetectionCheck::train(const cv::Mat& samples, const std::vector<i
   if (naming != nullptr && (naming->empty() || naming->colours() != colours)) {
     throw std::invalid_argument("DetectionCheck::train: the forest that is to name colours names other colours");
   }
+  // Mismatched sizes, labels out of range and a class without samples are refused (so both of the boosted trees'
+  // classes have some).
+  const std::vector<std::string> features = checkFeatureNames(colours);
+  countColourLabels(samples, labels, colours, features, "DetectionCheck::train");
   DetectionCheck c;
-  // The forest refuses mismatched sizes, labels out of range, and a class without samples (so both of the boosted
-  // trees' classes have some); a given forest is learnt again only for that and not kept.
-  c.colours_ = ColourModel::train(samples, labels, colours, options.colours, checkFeatureNames(colours));
-  if (naming != nullptr) c.colours_ = *naming;
+  c.colours_ = naming != nullptr ? *naming : ColourModel::train(samples, labels, colours, options.colours, features);
   c.width_ = samples.cols;
   cv::Mat responses(samples.rows, 1, CV_32SC1);
   for (int i = 0; i < samples.rows; ++i) responses.at<int>(i) = labels[i] >= 0 ? kObject : 0;
@@ -111,8 +112,7 @@ DetectionCheck DetectionCheck::load(const std::string& path, const std::vector<s
 
 void DetectionCheck::save(const std::string& path) const {
   if (empty()) throw std::runtime_error("DetectionCheck::save: empty check");
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw std::runtime_error("check model " + path + ": cannot be written");
+  cv::FileStorage fs = createModelFile(path, "check model " + path);
   colours_.write(fs);
   fs << "object" << "{";
   object_->write(fs);

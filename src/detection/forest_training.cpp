@@ -2,6 +2,8 @@
 #include "underwater_stereo/detection/forest_training.h"
 
 #include <cstdint>
+#include <fstream>
+#include <stdexcept>
 
 namespace underwater_stereo {
 
@@ -23,6 +25,26 @@ cv::Ptr<cv::ml::RTrees> trainForest(const cv::Mat& samples, const cv::Mat& respo
   forest->setTermCriteria(cv::TermCriteria(cv::TermCriteria::MAX_ITER, options.trees, 0));
   forest->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
   return forest;
+}
+
+cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
+  if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ);
+  } catch (const cv::Exception& e) {
+    throw std::invalid_argument(named + ": unreadable (" + e.msg + ")");
+  }
+  if (!fs.isOpened()) throw std::invalid_argument(named + ": cannot be opened");
+  return fs;
+}
+
+cv::FileStorage createModelFile(const std::string& path, const std::string& named) {
+  // OpenCV takes a digit after ".gz" as the gzip level and leaves it out of the file's name.
+  const bool gzipped = path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
+  cv::FileStorage fs(gzipped ? path + "9" : path, cv::FileStorage::WRITE);
+  if (!fs.isOpened()) throw std::runtime_error(named + ": cannot be written");
+  return fs;
 }
 
 }  // namespace underwater_stereo

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/shape_features.h"
@@ -54,11 +53,9 @@ ShapeModel ShapeModel::train(const cv::Mat& samples, const std::vector<ShapeKind
 
 ShapeModel ShapeModel::load(const std::string& path) {
   const std::string what = "shape model " + path + ": ";
-  if (!std::ifstream(path)) throw std::invalid_argument(what + "cannot be opened");
+  const cv::FileStorage fs = openModelFile(path, "shape model " + path);
   ShapeModel m;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) throw std::invalid_argument(what + "cannot be opened");
     std::vector<std::string> features, shapes;
     fs["features"] >> features;
     fs["shapes"] >> shapes;
@@ -83,8 +80,7 @@ ShapeModel ShapeModel::load(const std::string& path) {
 
 void ShapeModel::save(const std::string& path) const {
   if (empty()) throw std::runtime_error("ShapeModel::save: empty model");
-  cv::FileStorage fs(path, cv::FileStorage::WRITE);
-  if (!fs.isOpened()) throw std::runtime_error("shape model " + path + ": cannot be written");
+  cv::FileStorage fs = createModelFile(path, "shape model " + path);
   std::vector<std::string> shapes;
   for (ShapeKind s : kShapes) shapes.emplace_back(shapeName(s));
   fs << "features" << shapeFeatureNames();

@@ -68,13 +68,13 @@ int main(int argc, char** argv) {
     // A number option's value: the whole of it a number (a whole one where `whole`), else exit 2 naming it.
     auto number = [&](bool whole, double lo, double hi) {
       const std::string text = value();
-      double v = 0;
-      if (!tools::parseNumber(text, v) || !(v >= lo && v <= hi) || (whole && v != std::floor(v))) {
-        std::cerr << "benchmark_detector: " << a << " " << text << ": expected " << (whole ? "a whole number" : "a number")
-                  << " in [" << lo << ", " << hi << "]\n" << kUsage;
+      try {
+        return whole ? static_cast<double>(tools::wholeNumberIn(text, static_cast<long long>(lo), static_cast<long long>(hi), a))
+                     : tools::numberIn(text, lo, hi, a);
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "benchmark_detector: " << e.what() << "\n" << kUsage;
         std::exit(2);
       }
-      return v;
     };
     if (a == "--config") config_path = value();
     else if (a == "--frames") frames = static_cast<int>(number(true, 1, 1e6));

@@ -6,28 +6,32 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "underwater_stereo/tracking/tracker.h"
+#include "tool_helpers.h"
 
 using namespace underwater_stereo;
 
 int main(int argc, char** argv) {
   int objects = 10, frames = 3000;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string arg = argv[i];
-    if (arg == "--objects") {
-      objects = std::atoi(argv[i + 1]);
-    } else if (arg == "--frames") {
-      frames = std::atoi(argv[i + 1]);
-    } else {
-      std::fprintf(stderr, "usage: benchmark_tracker [--objects N (10)] [--frames N (3000)]\n");
-      return 2;
+  const char* usage = "usage: benchmark_tracker [--objects N (10)] [--frames N (3000)]\n";
+  try {
+    for (int i = 1; i < argc; i += 2) {
+      const std::string arg = argv[i];
+      if (arg == "--help" || arg == "-h") {
+        std::fputs(usage, stdout);
+        return 0;
+      }
+      if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
+      if (arg == "--objects") objects = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 1, 10000, arg));
+      else if (arg == "--frames") frames = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 10, 10000000, arg));
+      else throw std::invalid_argument("unknown option " + arg);
     }
-  }
-  if (objects < 1 || frames < 10) {
-    std::fprintf(stderr, "benchmark_tracker: need --objects >= 1 and --frames >= 10\n");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "benchmark_tracker: %s\n%s", e.what(), usage);
     return 2;
   }
   const char* colours[] = {"red", "orange", "yellow", "green"};

@@ -3,10 +3,12 @@
 #include <glob.h>
 #include <ros/package.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -48,15 +50,31 @@ struct Options {
   bool explain = false;
 };
 
-std::vector<std::string> expand(const std::string& pattern) {
+/// The files `pattern` (given as `option`) matches, in sorted order; a plain name as it is (a missing file is
+/// reported when read). @throw std::invalid_argument when a pattern matches nothing (and names no file as it is).
+std::vector<std::string> expand(const std::string& option, const std::string& pattern) {
   glob_t g{};
   std::vector<std::string> out;
   if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
     for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
   }
   ::globfree(&g);
-  if (out.empty()) out.push_back(pattern);  // not a pattern, or nothing matched: reported when read
+  std::error_code error;
+  if (out.empty() && pattern.find_first_of("*?[") != std::string::npos && !std::filesystem::exists(pattern, error)) {
+    throw std::invalid_argument(option + " '" + pattern + "': no file matches the pattern");
+  }
+  if (out.empty()) out.push_back(pattern);
   return out;
+}
+
+/// Whether `line` leaves a double quote open (inside quotes a backslash escapes the next character).
+bool unclosedQuote(const std::string& line) {
+  bool inside = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if (inside && line[i] == '\\') ++i;
+    else if (line[i] == '"') inside = !inside;
+  }
+  return inside;
 }
 
 Options parse(int argc, char** argv) {
@@ -71,10 +89,17 @@ Options parse(int argc, char** argv) {
       o.explain = true;
       continue;
     }
+    static const char* const kValued[] = {"--config", "--left", "--right", "--left-info", "--right-info", "--image",
+                                          "--list"};
+    if (std::find(std::begin(kValued), std::end(kValued), arg) == std::end(kValued)) {
+      if (arg.rfind("-", 0) == 0) throw std::invalid_argument("unknown option " + arg);
+      throw std::invalid_argument("stray argument '" + arg + "': images go after --image, --left or --right (one " +
+                                  "file or one quoted pattern each)");
+    }
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string value = argv[++i];
     auto append = [&](std::vector<std::string>& to) {
-      for (auto& f : expand(value)) to.push_back(f);
+      for (auto& f : expand(arg, value)) to.push_back(f);
     };
     if (arg == "--config") o.config = value;
     else if (arg == "--left") append(o.left);
@@ -82,8 +107,7 @@ Options parse(int argc, char** argv) {
     else if (arg == "--left-info") o.left_info = value;
     else if (arg == "--right-info") o.right_info = value;
     else if (arg == "--image") append(o.images);
-    else if (arg == "--list") o.list = value;
-    else throw std::invalid_argument("unknown option " + arg);
+    else o.list = value;
   }
   if (!o.list.empty()) {
     std::error_code error;
@@ -95,6 +119,7 @@ Options parse(int argc, char** argv) {
     std::string line;
     for (int n = 1; std::getline(in, line); ++n) {
       if (line.empty() || line[0] == '#') continue;
+      if (unclosedQuote(line)) throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": a double quote not closed");
       std::istringstream words(line);
       std::string a, b, extra;
       words >> std::quoted(a) >> std::quoted(b) >> std::quoted(extra);  // "a path with spaces" in double quotes

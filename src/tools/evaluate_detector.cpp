@@ -225,7 +225,6 @@ int evaluateRandom(const DetectorConfig& config, const std::string& config_path,
     json.open(opt.json_path);
     if (!json) throw std::runtime_error("cannot write " + opt.json_path);
   }
-  if (opt.worst > 0) std::filesystem::create_directories(opt.worst_dir);
   // One head for every scene: its pixel rays are computed once.
   const sim::Renderer head(sim::sampleScene(opt.seed, sampler).scene);
   const Detector detector(config, head.calibration());
@@ -343,21 +342,7 @@ int main(int argc, char** argv) {
         if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
         return argv[++i];
       };
-      auto integer = [&](long lo, long hi) {
-        const std::string v = value();
-        std::size_t used = 0;
-        long n = lo - 1;
-        try {
-          n = std::stol(v, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != v.size() || used == 0 || n < lo || n > hi) {
-          throw std::invalid_argument(a + ": '" + v + "' is not an integer in [" + std::to_string(lo) + ", " +
-                                      std::to_string(hi) + "]");
-        }
-        return n;
-      };
+      auto integer = [&](long long lo, long long hi) { return tools::wholeNumberIn(value(), lo, hi, a); };
       if (a == "--help" || a == "-h") {
         std::cout << kUsage;
         return 0;
@@ -368,12 +353,9 @@ int main(int argc, char** argv) {
       else if (a == "--without-check") without_check = true;
       else if (a == "--config") config_path = value();
       else if (a == "--frames") frames = static_cast<int>(integer(1, 1000000));
-      else if (a == "--rate") {
-        const std::string v = value();
-        if (!tools::parseNumber(v, rate)) throw std::invalid_argument("--rate: '" + v + "' is not a number");
-      }
+      else if (a == "--rate") rate = tools::numberIn(value(), 1e-3, 1e3, a);
       else if (a == "--random") random.pairs = static_cast<int>(integer(1, 10000000));
-      else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1L << 62));
+      else if (a == "--seed") random.seed = static_cast<std::uint64_t>(integer(0, 1LL << 62));
       else if (a == "--scenes") paper_scenes = static_cast<int>(integer(1, 100000));
       else if (a == "--levels") levels = tools::parseLevels(value());
       else if (a == "--jobs") random.jobs = static_cast<int>(integer(1, 64));
@@ -403,9 +385,18 @@ int main(int argc, char** argv) {
       for (Mode m : modes_of) goes_with += (goes_with.empty() ? "" : " or ") + modeName(m);
       throw std::invalid_argument(option + " goes with " + goes_with + ", not with " + modeName(mode));
     }
-    if (!(rate > 0)) throw std::invalid_argument("--rate must be > 0");
     const std::string problem = sampler_given.problem(sampler);
     if (!problem.empty()) throw std::invalid_argument(problem);
+    // Outputs checked before the long run, not after it.
+    if (!random.json_path.empty()) tools::checkWritableFile("--json", random.json_path, "the records file to write");
+    if (random.worst > 0) {
+      std::error_code error;
+      std::filesystem::create_directories(random.worst_dir, error);
+      if (error || !std::filesystem::is_directory(random.worst_dir, error) || ::access(random.worst_dir.c_str(), W_OK) != 0) {
+        throw std::invalid_argument("--worst " + std::to_string(random.worst) + " " + random.worst_dir +
+                                    ": not a folder that can be made and written");
+      }
+    }
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n" << kUsage;
     return 2;
@@ -415,18 +406,32 @@ int main(int argc, char** argv) {
   std::vector<std::pair<std::string, sim::Scene>> scene_files;
   {
     std::vector<std::string> problems;
+    bool config_loaded = false;
     try {
       config = configWithout(config_path, shape_rules, without_check);
+      config_loaded = true;
     } catch (const std::exception& e) {
       problems.push_back(e.what());
     }
+    // The detector must take each rig (image size, baseline) too: a scene the simulator renders but the detector
+    // refuses is named now, not after the table's header.
+    auto checkRig = [&](const std::string& named, const sim::Scene& scene) {
+      if (!config_loaded) return;  // no configuration to check it with
+      try {
+        const Detector detector(config, sim::Renderer(scene).calibration());
+      } catch (const std::exception& e) {
+        problems.push_back(named + ": the detector refuses its rig: " + e.what());
+      }
+    };
     for (const auto& path : scenes) {
       try {
         scene_files.emplace_back(path, sim::loadSceneFile(path));
+        checkRig(path, scene_files.back().second);
       } catch (const std::exception& e) {
         problems.push_back(e.what());
       }
     }
+    if (scenes.empty()) checkRig("the sampled scenes (--size)", sim::sampleScene(random.seed, sampler).scene);
     if (!problems.empty()) {
       for (const auto& p : problems) std::cerr << "evaluate_detector: " << p << "\n";
       return 2;

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -80,11 +81,20 @@ void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, st
 }
 
 /// Adds the samples of one records file. @throw std::invalid_argument naming the file on malformed records.
-void addRecords(const std::string& path, const std::vector<std::string>& colours, std::size_t width, Samples& out) {
+void addRecords(const std::string& path, const std::string& config_path, const std::vector<std::string>& colours,
+                std::size_t width, Samples& out) {
   const YAML::Node root = tools::loadRandomRecords(path);
   if (root["config"] && root["config"].as<std::string>().find("--without-check") == std::string::npos) {
     throw std::invalid_argument(path + ": made with a check (evaluate_detector without --without-check): its records "
                                 "lack what the check turned down");
+  }
+  if (root["config"]) {  // the configuration the records were made with: its colour model gave their features
+    const std::string made_with = root["config"].as<std::string>().substr(0, root["config"].as<std::string>().find(" --"));
+    std::error_code error;
+    if (made_with != config_path && !std::filesystem::equivalent(made_with, config_path, error)) {
+      std::cerr << "learn_checks: note: " << path << " was made with " << made_with << ", not " << config_path
+                << ": learn from records of the colour model the check is for\n";
+    }
   }
   tools::forEachRecordPair(root, path, [&](const YAML::Node& pair, const std::string& where) {
     addPair(pair, colours, width, where, out);
@@ -110,19 +120,28 @@ int main(int argc, char** argv) {
       code >= 0) {
     return code;
   }
-  try {
-    const DetectorConfig config = loadDetectorConfigFile(config_path, [](YAML::Node& root) {
+  DetectorConfig config;
+  std::optional<ColourModel> naming;
+  try {  // what the command line names: a bad one exits 2 as a bad option does
+    config = loadDetectorConfigFile(config_path, [](YAML::Node& root) {
       if (root.IsMap() && root["colour_model"] && root["colour_model"].IsMap()) root["colour_model"].remove("check_file");
     });
     if (!config.learned.model) throw std::invalid_argument(config_path + ": no colour_model.file: nothing to check");
+    if (!values["--colours-from"].empty()) {
+      naming = ColourModel::load(values["--colours-from"], checkFeatureNames(config.learned.model->colours()),
+                                 "check model");
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "learn_checks: " << e.what() << "\n";
+    return 2;
+  }
+  try {
     const std::vector<std::string>& colours = config.learned.model->colours();
     const std::vector<std::string> names = checkFeatureNames(colours);
     Samples samples;
     samples.rows = cv::Mat(0, static_cast<int>(names.size()), CV_32F);
-    for (const std::string& path : inputs) addRecords(path, colours, names.size(), samples);
+    for (const std::string& path : inputs) addRecords(path, config_path, colours, names.size(), samples);
     // CheckTraining's defaults: chosen on the records of seeds 86000-87999 and validation seeds 60000-60299.
-    std::optional<ColourModel> naming;
-    if (!values["--colours-from"].empty()) naming = ColourModel::load(values["--colours-from"], names, "check model");
     tools::trainOnRecords(inputs, samples.labels.size(), "detections", [&] {
       return DetectionCheck::train(samples.rows, samples.labels, colours, CheckTraining{}, naming ? &*naming : nullptr);
     }).save(out);

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <numeric>
 #include <random>
@@ -78,21 +79,6 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-/// `text` as a number in [lo, hi]; otherwise an error that starts with `what`.
-double numberIn(const std::string& text, double lo, double hi, const std::string& what) {
-  std::size_t used = 0;
-  double x = 0;
-  try {
-    x = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !(x >= lo && x <= hi)) {
-    throw std::invalid_argument(what + ": expected a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-  }
-  return x;
-}
-
 Options parse(int argc, char** argv) {
   Options o;
   for (int i = 1; i < argc; ++i) {
@@ -103,29 +89,30 @@ Options parse(int argc, char** argv) {
     }
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string v = argv[++i];
-    auto number = [&](double lo, double hi) { return numberIn(v, lo, hi, arg + " " + v); };
+    auto number = [&](double lo, double hi) { return tools::numberIn(v, lo, hi, arg); };
+    auto whole = [&](long long lo, long long hi) { return static_cast<int>(tools::wholeNumberIn(v, lo, hi, arg)); };
     if (arg == "--images") o.images.push_back(v);
     else if (arg == "--annotations") o.annotations.push_back(v);
     else if (arg == "--out") o.out = v;
     else if (arg == "--base") o.base = v;
     else if (arg == "--colours") { o.learning.colours = split(v); o.colours_given = true; }
     else if (arg == "--background") o.learning.background_labels = split(v);
-    else if (arg == "--folds") o.folds = static_cast<int>(number(1, 100));
-    else if (arg == "--seed") o.learning.training.seed = static_cast<int>(number(0, 2e9));
-    else if (arg == "--augment") o.learning.augment = static_cast<int>(number(0, 20));
-    else if (arg == "--zoom") o.learning.zoom = static_cast<int>(number(0, 20));
-    else if (arg == "--min-label-px") o.learning.min_label_px = static_cast<int>(number(1, 10000));
-    else if (arg == "--trees") o.learning.training.trees = static_cast<int>(number(1, 2000));
-    else if (arg == "--max-depth") o.learning.training.max_depth = static_cast<int>(number(1, 30));
+    else if (arg == "--folds") o.folds = whole(1, 100);
+    else if (arg == "--seed") o.learning.training.seed = whole(0, 2000000000);
+    else if (arg == "--augment") o.learning.augment = whole(0, 20);
+    else if (arg == "--zoom") o.learning.zoom = whole(0, 20);
+    else if (arg == "--min-label-px") o.learning.min_label_px = whole(1, 10000);
+    else if (arg == "--trees") o.learning.training.trees = whole(1, 2000);
+    else if (arg == "--max-depth") o.learning.training.max_depth = whole(1, 30);
     else if (arg == "--balance") o.learning.training.balance = number(0, 1);
     else if (arg == "--min-confidence") o.min_confidence = number(0.01, 1);
     else if (arg == "--sweep") {
-      for (const std::string& item : split(v)) o.sweep.push_back(numberIn(item, 0.01, 1, "--sweep " + v + ": '" + item + "'"));
+      for (const std::string& item : split(v)) o.sweep.push_back(tools::numberIn(item, 0.01, 1, "--sweep " + v));
       if (o.sweep.empty()) throw std::invalid_argument("--sweep needs at least one value");
     }
     else if (arg == "--choose-thresholds") {
       for (const std::string& item : split(v)) {
-        o.choose.push_back(numberIn(item, 0.01, 1, "--choose-thresholds " + v + ": '" + item + "'"));
+        o.choose.push_back(tools::numberIn(item, 0.01, 1, "--choose-thresholds " + v));
       }
       std::sort(o.choose.begin(), o.choose.end());
       o.choose.erase(std::unique(o.choose.begin(), o.choose.end()), o.choose.end());
@@ -145,6 +132,10 @@ Options parse(int argc, char** argv) {
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {
     throw std::invalid_argument("--choose-thresholds needs cross-validation (--folds 2 or more)");
+  }
+  if (!o.detections_out.empty()) {
+    if (o.folds < 2) throw std::invalid_argument("--detections-out needs cross-validation (--folds 2 or more)");
+    tools::checkWritableFile("--detections-out", o.detections_out, "the JSON lines file to write");
   }
   if (!o.choose.empty() && o.min_confidence > 0) {
     throw std::invalid_argument("give --min-confidence or --choose-thresholds, not both");
@@ -169,12 +160,40 @@ std::vector<std::string> imagesIn(const std::string& dir) {
   return out;
 }
 
-/// Every frame of every folder pair; every problem (unreadable image or XML, missing annotation) listed.
+/// The .xml files in `dir` (none when it is no readable folder: the frames' own annotations are then reported
+/// missing one by one).
+std::vector<std::string> annotationsIn(const std::string& dir) {
+  std::vector<std::string> out;
+  std::error_code error;
+  for (const auto& e : std::filesystem::directory_iterator(dir, error)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".xml") == 0) out.push_back(name);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// Every frame of every folder pair; every problem (unreadable image or XML, missing annotation, annotation without
+/// image, two images of one name) listed.
 std::vector<LabelledFrame> readFrames(const Options& o) {
   std::vector<LabelledFrame> frames;
   std::vector<std::string> problems;
   for (std::size_t d = 0; d < o.images.size(); ++d) {
+    std::map<std::string, std::string> image_of_stem;  // one frame per annotation: 001.png and 001.jpg are one frame
     for (const std::string& name : imagesIn(o.images[d])) {
+      const std::string stem = name.substr(0, name.find_last_of('.'));
+      if (const auto [at, added] = image_of_stem.emplace(stem, name); !added) {
+        problems.push_back(o.images[d] + "/" + name + " and " + at->second + " share the annotation " + stem +
+                           ".xml: one frame would be learnt twice (keep one of them)");
+      }
+    }
+    for (const std::string& xml : annotationsIn(o.annotations[d])) {
+      if (!image_of_stem.count(xml.substr(0, xml.size() - 4))) {
+        problems.push_back(o.annotations[d] + "/" + xml + ": no image of that name (.jpg, .jpeg, .png, .bmp) in " +
+                           o.images[d]);
+      }
+    }
+    for (const auto& [stem, name] : image_of_stem) {
       LabelledFrame f;
       f.name = o.images[d] + "/" + name;
       try {
@@ -187,9 +206,9 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
         problems.push_back(f.name + ": a grey image (its three channels equal) cannot teach colours");
         continue;
       }
-      const std::string xml = o.annotations[d] + "/" + name.substr(0, name.find_last_of('.')) + ".xml";
+      const std::string xml = o.annotations[d] + "/" + stem + ".xml";
       try {
-        f.labels = readVocLabels(xml);
+        f.labels = readVocLabels(xml, &f.declared_size);
       } catch (const std::invalid_argument& e) {
         problems.push_back(e.what());
         continue;
@@ -436,6 +455,16 @@ int main(int argc, char** argv) {
       for (std::size_t i : indices) out.push_back(frames[i]);
       return out;
     };
+    // The model learnt from `indices` (frames); `what` names them when a colour or the background has no sample there.
+    auto learnOn = [&](const std::vector<std::size_t>& indices, const std::string& what) {
+      try {
+        return learnColourModel(samplesOfFrames(indices), o.learning);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(what + " (" + std::to_string(indices.size()) + " frames): " + e.what() +
+                                    " (label more frames of it" +
+                                    (indices.size() < frames.size() ? ", or give fewer --folds)" : ")"));
+      }
+    };
     // Per-colour thresholds chosen by cross-validation within `indices` (frames) alone: each of its folds
     // detected by a model learnt from the others at the grid's lowest threshold, the combination chosen on all.
     auto chooseWithin = [&](const std::vector<std::size_t>& indices, unsigned seed) {
@@ -447,7 +476,9 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const Detector d(configWith(learnColourModel(samplesOfFrames(train), o.learning), o.choose.front(), {}));
+        const Detector d(configWith(learnOn(train, "the training frames of inner fold " + std::to_string(k + 1) + " of " +
+                                                       std::to_string(o.folds) + " (choosing thresholds)"),
+                                    o.choose.front(), {}));
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         const auto found = detectionsOf(d, held_out);
         ordered.insert(ordered.end(), held_out.begin(), held_out.end());
@@ -478,7 +509,8 @@ int main(int argc, char** argv) {
         for (std::size_t j = 0; j < parts.size(); ++j) {
           if (j != k) train.insert(train.end(), parts[j].begin(), parts[j].end());
         }
-        const ColourModel model = learnColourModel(samplesOfFrames(train), o.learning);
+        const ColourModel model =
+            learnOn(train, "the training frames of fold " + std::to_string(k + 1) + " of " + std::to_string(o.folds));
         const std::vector<LabelledFrame> held_out = framesOf(parts[k]);
         if (!o.choose.empty()) {
           // Thresholds from the training folds only (inner cross-validation), judged on the held-out fold.
@@ -524,7 +556,7 @@ int main(int argc, char** argv) {
       std::printf("\nmin_confidence per colour chosen by %d-fold cross-validation on all frames: %s\n", o.folds,
                   thresholdsText(per_colour, o.learning).c_str());
     }
-    const ColourModel model = learnColourModel(samplesOfFrames(everything), o.learning);
+    const ColourModel model = learnOn(everything, "all frames");
     std::string stem = o.out;
     if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
     const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)

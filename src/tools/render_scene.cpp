@@ -25,6 +25,7 @@
 #include "underwater_stereo/sim/scene_sampler.h"
 #include "underwater_stereo/sim/voc_labels.h"
 #include "sampler_options.h"
+#include "tool_helpers.h"
 
 namespace {
 
@@ -61,7 +62,8 @@ cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
 }
 
 bool parse(int argc, char** argv, Options& o, std::string& error) {
-  underwater_stereo::tools::SamplerOptions sampler_given;
+  namespace tools = underwater_stereo::tools;
+  tools::SamplerOptions sampler_given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
@@ -75,11 +77,11 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       else if (arg == "--bag") o.bag = value;
       else if (arg == "--png-dir") o.png_dir = value;
       else if (arg == "--namespace") o.ns = value;
-      else if (arg == "--frames") o.frames = std::stoi(value);
-      else if (arg == "--rate") o.rate_hz = std::stod(value);
-      else if (arg == "--start-time") o.start_time_s = std::stod(value);
-      else if (arg == "--random") o.random = std::stoi(value);
-      else if (arg == "--seed") o.seed = std::stoll(value);
+      else if (arg == "--frames") o.frames = static_cast<int>(tools::wholeNumberIn(value, 1, 1000000, arg));
+      else if (arg == "--rate") o.rate_hz = tools::numberIn(value, 1e-3, 1e3, arg);
+      else if (arg == "--start-time") o.start_time_s = tools::numberIn(value, 0, 4294967295.0, arg);
+      else if (arg == "--random") o.random = static_cast<int>(tools::wholeNumberIn(value, 1, 10000000, arg));
+      else if (arg == "--seed") o.seed = tools::wholeNumberIn(value, 0, 1LL << 62, arg);
       else if (arg == "--out") o.out_dir = value;
       else if (sampler_given.takes(arg)) {
         error = sampler_given.read(arg, value, o.sampler);
@@ -88,27 +90,24 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
         error = "unknown option " + arg;
         return false;
       }
-    } catch (const std::exception&) {
-      error = arg + ": '" + value + "' is not a number";
+    } catch (const std::invalid_argument& e) {
+      error = e.what();
       return false;
     }
   }
   if (o.random != 0 || !o.out_dir.empty()) {
     if (!o.scene.empty() || !o.bag.empty() || !o.png_dir.empty()) error = "--random does not go with --scene, --bag, --png-dir";
-    else if (o.random < 1) error = "--random must be >= 1";
-    else if (o.seed < 0) error = "--seed must be >= 0";
     else if (o.out_dir.empty()) error = "--random needs --out DIR";
     else error = sampler_given.problem(o.sampler);
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";
   else if (o.bag.empty() && o.png_dir.empty()) error = "give --bag and/or --png-dir";
-  else if (o.frames < 1) error = "--frames must be >= 1";
-  else if (!(o.rate_hz > 0.0)) error = "--rate must be > 0";
   else if (std::string why; !ros::names::validate(o.ns, why)) error = "--namespace '" + o.ns + "': " + why;
   // ros::Time holds 0 .. 2^32 s; the last frame's stamp must fit too.
-  else if (!(o.start_time_s >= 0 && o.start_time_s + o.frames / o.rate_hz < 4294967295.0)) {
-    error = "--start-time must lie in [0, 2^32) s with its frames (got " + std::to_string(o.start_time_s) + ")";
+  else if (!(o.start_time_s + (o.frames - 1) / o.rate_hz < 4294967295.0)) {
+    error = "the last frame's stamp (--start-time + (--frames - 1) / --rate = " +
+            std::to_string(o.start_time_s + (o.frames - 1) / o.rate_hz) + " s) must lie below 2^32 s";
   }
   return error.empty();
 }
@@ -171,7 +170,14 @@ int main(int argc, char** argv) {
       writeTrainingData(opt);
       return 0;
     }
-    const sim::Renderer renderer(sim::loadSceneFile(opt.scene));
+    sim::Scene scene;
+    try {
+      scene = sim::loadSceneFile(opt.scene);
+    } catch (const std::exception& e) {  // the command line named a bad scene: as a bad option
+      std::cerr << "render_scene: " << e.what() << "\n";
+      return 2;
+    }
+    const sim::Renderer renderer(scene);
     const StereoCalibration& calib = renderer.calibration();
     rosbag::Bag bag;
     if (!opt.bag.empty()) bag.open(opt.bag, rosbag::bagmode::Write);

@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,6 +30,34 @@ inline bool parseNumber(const std::string& text, double& out) {
   if (text.empty() || end == text.c_str() || *end != '\0') return false;
   out = v;
   return true;
+}
+
+/// The error for an option value `text` that is not a number (a whole one where `whole`) in [lo, hi].
+template <typename Number>
+std::invalid_argument notANumberIn(const std::string& text, Number lo, Number hi, bool whole, const std::string& what) {
+  std::ostringstream message;
+  message << what << ": '" << text << "' is not " << (whole ? "a whole number" : "a number") << " in [" << lo << ", "
+          << hi << "]";
+  return std::invalid_argument(message.str());
+}
+
+/// `text`, the whole of it, as a number in [lo, hi]. @throw std::invalid_argument starting with `what` otherwise.
+inline double numberIn(const std::string& text, double lo, double hi, const std::string& what) {
+  double v = NAN;
+  if (!parseNumber(text, v) || !(v >= lo && v <= hi)) throw notANumberIn(text, lo, hi, false, what);
+  return v;
+}
+
+/// `text`, the whole of it, as a whole number in [lo, hi] (read as an integer: large seeds stay exact).
+/// @throw std::invalid_argument starting with `what` otherwise.
+inline long long wholeNumberIn(const std::string& text, long long lo, long long hi, const std::string& what) {
+  char* end = nullptr;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || end == text.c_str() || *end != '\0' || errno != 0 || v < lo || v > hi) {
+    throw notANumberIn(text, lo, hi, true, what);
+  }
+  return v;
 }
 
 /// `text` as WIDTHxHEIGHT (two whole numbers and nothing else) into `width` and `height`; false (both untouched)
@@ -144,6 +173,11 @@ inline void forEachRecordPair(const YAML::Node& root, const std::string& path,
     const std::string where = path + ": seed " + (pair.IsMap() ? pair["seed"].as<std::string>("?") : std::string("?"));
     try {
       if (!pair.IsMap()) throw std::invalid_argument(where + ": malformed record (a pair is not a map)");
+      for (const char* list : {"objects", "false_detections"}) {  // iterating a scalar would yield nothing, silently
+        if (pair[list] && !pair[list].IsSequence()) {
+          throw std::invalid_argument(where + ": malformed record (\"" + list + "\" is not a list)");
+        }
+      }
       add(pair, where);
     } catch (const YAML::Exception& e) {
       throw std::invalid_argument(where + ": malformed record (" + e.what() + ")");

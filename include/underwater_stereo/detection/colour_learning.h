@@ -33,14 +33,16 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box);
 /// The `<object>`s of a Pascal VOC annotation file (read as XML: comments, attributes and a `<part>`'s own box
 /// are no objects). @throw std::invalid_argument naming the file (and the object's number and name) when it
 /// cannot be read, is not VOC XML, or a box is empty, not a number, beyond any image (16384 px) or another
-/// object's box too.
-std::vector<LabelBox> readVocLabels(const std::string& path);
+/// object's box too. `declared_size`, when given, receives the image size its <size> declares (empty when it
+/// declares none, or a side of 0); a <size> whose <width> or <height> is no whole number is an error too.
+std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_size = nullptr);
 
 /// A frame to learn from: its image and labels.
 struct LabelledFrame {
   std::string name;   ///< for messages (the image's path)
   cv::Mat image;      ///< 8-bit BGR
   std::vector<LabelBox> labels;
+  cv::Size declared_size;  ///< the image size its annotation declares (empty: none declared)
 };
 
 struct LearningOptions {
@@ -61,8 +63,8 @@ struct LearningOptions {
 /// (buoy_red -> red); -1 for a background label. @throw std::invalid_argument for any other name.
 int colourOfLabel(const std::string& name, const LearningOptions& options);
 
-/// Checks every frame's labels (colour or background name, box inside the image) and that every colour has
-/// an example. @throw std::invalid_argument listing every problem with file and box.
+/// Checks every frame's labels (colour or background name, box inside the image, the annotation's declared size
+/// the image's) and that every colour has an example. @throw std::invalid_argument listing every problem with file and box.
 void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
 
 /// `bgr` as if seen through other water, drawn from `seed`: the water's veil over it deepened towards a

@@ -31,8 +31,12 @@ struct ColourVerdict {
 /// Training options of the colour model (the background is the reference class of `balance`).
 using ColourModelTraining = ForestTraining;
 
-/// The model file at `path` opened for reading. @throw std::invalid_argument beginning with `named` when it cannot be.
-cv::FileStorage openModelFile(const std::string& path, const std::string& named);
+/// The samples of each class in `labels` (-1: background, k: colours[k]); index 0 of the result counts the
+/// background, k + 1 colour k. @throw std::invalid_argument beginning with `who` unless `samples` holds one CV_32F
+/// row of `features` per label, every label is -1 or a colour's index, and background and every colour have samples.
+std::vector<int> countColourLabels(const cv::Mat& samples, const std::vector<int>& labels,
+                                   const std::vector<std::string>& colours, const std::vector<std::string>& features,
+                                   const std::string& who);
 
 class ColourModel {
  public:

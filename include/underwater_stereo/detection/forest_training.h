@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file How the learnt models' random forests (OpenCV's cv::ml::RTrees) are trained: one set of options and one
-/// training call for the colour model and the shape model.
+/// training call for the colour model and the shape model; and how every learnt model's file is opened.
 
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
@@ -25,5 +25,12 @@ struct ForestTraining {
 /// per-class `priors` (CV_32F, one per class), with `options`' trees, depth and seed.
 cv::Ptr<cv::ml::RTrees> trainForest(const cv::Mat& samples, const cv::Mat& responses, const cv::Mat& priors,
                                     const ForestTraining& options);
+
+/// The model file at `path` opened for reading. @throw std::invalid_argument beginning with `named` when it cannot be.
+cv::FileStorage openModelFile(const std::string& path, const std::string& named);
+
+/// The model file at `path` opened for writing; a ".gz" file is gzipped at level 9 (OpenCV's default is 3; the
+/// committed check stays under 2 MiB that way). @throw std::runtime_error beginning with `named` when it cannot be.
+cv::FileStorage createModelFile(const std::string& path, const std::string& named);
 
 }  // namespace underwater_stereo
