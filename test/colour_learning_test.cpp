@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <random>
 
 #include "config_test_helpers.h"
@@ -64,6 +65,16 @@ LearningOptions options() {
   o.augment = 1;
   o.training.trees = 40;
   return o;
+}
+
+/// What `f` throws as std::invalid_argument, or "no error".
+std::string messageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
 }
 
 std::string writeTemp(const std::string& name, const std::string& text) {
@@ -186,14 +197,6 @@ TEST(ColourLearning, LearntModelRoundTripsThroughTheConfigValidator) {
 
 TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   const std::string head = "<annotation><object><name>buoy_red</name><bndbox>";
-  auto messageOf = [](const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   const std::string empty_box = writeTemp("empty.xml", head + "<xmin>10</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
   EXPECT_NE(messageOf([&] { readVocLabels(empty_box); }).find(empty_box + ": object 0 (buoy_red): empty box [10, 5, 10, 9]"), std::string::npos);
   const std::string not_number = writeTemp("nan.xml", head + "<xmin>a</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
@@ -246,14 +249,6 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
 }
 
 TEST(ColourLearning, AnAnnotationsDeclaredSizeMustBeItsImages) {
-  auto messageOf = [](const std::function<void()>& f) {
-    try {
-      f();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
   const std::string object = "<object><name>red</name><bndbox><xmin>10</xmin><ymin>5</ymin><xmax>30</xmax>"
                              "<ymax>25</ymax></bndbox></object>";
   cv::Size declared;
