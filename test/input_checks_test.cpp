@@ -222,6 +222,20 @@ TEST(CalibrationYaml, EveryShapeAndValueProblemIsListedNamingTheFileAndField) {
             std::string::npos);
 }
 
+TEST(CalibrationYaml, ANanFocalLengthIsNamedOnceNotAlsoAsSkew) {
+  CameraCalibration c = parseCameraCalibration(YAML::Load(kGoodCalibration));
+  c.K(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  std::string all;
+  for (const std::string& p : c.validate("left")) all += p + "\n";
+  EXPECT_NE(all.find("K[0] (fx) = nan px is outside"), std::string::npos) << all;
+  EXPECT_EQ(all.find("skew"), std::string::npos) << all;
+  c = parseCameraCalibration(YAML::Load(kGoodCalibration));
+  c.K(0, 1) = 80;  // more than 0.1 fx: still named
+  all.clear();
+  for (const std::string& p : c.validate("left")) all += p + "\n";
+  EXPECT_NE(all.find("K skew 80 exceeds 0.1 * fx"), std::string::npos) << all;
+}
+
 TEST(CalibrationYaml, APairWithAnImplausibleBaselineIsRefused) {
   StereoCalibration pair{parseCameraCalibration(YAML::Load(kGoodCalibration)),
                          parseCameraCalibration(YAML::Load(kGoodCalibration))};

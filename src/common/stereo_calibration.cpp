@@ -28,7 +28,9 @@ void checkPinhole(const std::string& name, const std::string& matrix, double fx,
                          ".." + number(kMaxFocalPx) + (f == 0.0 ? " (camera not calibrated)" : ""));
     }
   }
-  if (!(std::abs(skew) <= 0.1 * std::abs(fx))) {
+  // Against fx only when fx itself is sound: a NaN or zero fx is named above, not a second time as a skew problem.
+  const bool fx_sound = fx >= kMinFocalPx && fx <= kMaxFocalPx;
+  if (!std::isfinite(skew) || (fx_sound && !(std::abs(skew) <= 0.1 * fx))) {
     problems.push_back(name + ": " + matrix + " skew " + number(skew) + " exceeds 0.1 * fx");
   }
   if (!(cx >= 0 && cx <= width)) {
