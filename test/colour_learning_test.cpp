@@ -201,6 +201,8 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   EXPECT_NE(messageOf([&] { readVocLabels(empty_box); }).find(empty_box + ": object 0 (buoy_red): empty box [10, 5, 10, 9]"), std::string::npos);
   const std::string not_number = writeTemp("nan.xml", head + "<xmin>a</xmin><ymin>5</ymin><xmax>10</xmax><ymax>9</ymax></bndbox></object></annotation>");
   EXPECT_NE(messageOf([&] { readVocLabels(not_number); }).find("<xmin> 'a' is not a number"), std::string::npos);
+  const std::string hex = writeTemp("hex.xml", head + "<xmin>0x20C</xmin><ymin>5</ymin><xmax>600</xmax><ymax>9</ymax></bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(hex); }).find("<xmin> '0x20C' is not a number"), std::string::npos);
   const std::string unclosed = writeTemp("unclosed.xml", head + "<xmin>1</xmin>");
   EXPECT_NE(messageOf([&] { readVocLabels(unclosed); }).find(unclosed + ": unreadable XML"), std::string::npos);
   const std::string not_voc = writeTemp("not_voc.xml", "hello");

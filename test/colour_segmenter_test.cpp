@@ -182,4 +182,8 @@ TEST(ColourSegmenter, InvalidConfigListsEveryProblem) {
   // saturation floor factor and minimum
   EXPECT_EQ(c.validate().size(), 9U);
   EXPECT_FALSE(ColourMaskConfig{}.validate().empty()) << "no designated colour";
+  ColourMaskConfig even = redAndGreen();
+  even.blur_px = 4;  // OpenCV's Gaussian kernel is odd: refused here, not by an assertion inside OpenCV
+  ASSERT_EQ(even.validate().size(), 1U);
+  EXPECT_NE(even.validate()[0].find("mask.blur_px must be 0 or 1 (no blur) or odd"), std::string::npos);
 }

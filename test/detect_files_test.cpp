@@ -140,6 +140,11 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   std::ofstream(path("quote.txt")) << "\"" << path("left.png") << "\n";
   EXPECT_NE(firstLine("--list " + path("quote.txt")).find(path("quote.txt") + ":1: a double quote not closed"),
             std::string::npos) << firstLine("--list " + path("quote.txt"));
+  std::ofstream(path("empty_list.txt")) << "# nothing\n";
+  EXPECT_NE(firstLine("--list " + path("empty_list.txt")).find("the list file " + path("empty_list.txt") + " names no frame"),
+            std::string::npos) << firstLine("--list " + path("empty_list.txt"));
+  std::ofstream(path("bom.txt")) << "\xEF\xBB\xBF" << path("left.png") << "\r\n";  // as a Windows editor saves it
+  EXPECT_EQ(run("--list " + path("bom.txt")).status, 0);
   // A grey image is searched, and said to hold no colour.
   cv::Mat grey;
   cv::cvtColor(pair_.left, grey, cv::COLOR_BGR2GRAY);

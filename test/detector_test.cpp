@@ -382,6 +382,7 @@ quality: {too_dark_below: 250}
 colours:
   - {name: red, hue: [170]}
   - {hue: [10, 20]}
+  - {name: green, hue: [.nan, 60], saturation: [1e10, 255], value: [20.5, 255]}
 candidates: {source: magic, min_area_px: abc}
 stereo: {min_depth_m: 6}
 speed: fast
@@ -392,6 +393,10 @@ speed: fast
     EXPECT_NE(m.find("speed: unknown key"), std::string::npos) << m;
     EXPECT_NE(m.find("colours[0].hue: expected 2 numbers"), std::string::npos) << m;
     EXPECT_NE(m.find("colours[1].name: missing"), std::string::npos) << m;
+    // HSV bounds that are no whole numbers are named as written, not cast to an int.
+    EXPECT_NE(m.find("colours[2].hue: nan is not a whole number"), std::string::npos) << m;
+    EXPECT_NE(m.find("colours[2].saturation: 1e+10 is not a whole number"), std::string::npos) << m;
+    EXPECT_NE(m.find("colours[2].value: 20.5 is not a whole number"), std::string::npos) << m;
     EXPECT_NE(m.find("'magic' is not colour_mask, grey_threshold or learned"), std::string::npos) << m;
     EXPECT_NE(m.find("candidates.min_area_px: expected a number"), std::string::npos) << m;
     EXPECT_NE(m.find("stereo: need 0.05 < min_depth_m < max_depth_m"), std::string::npos) << "value problems too: " << m;

@@ -220,6 +220,8 @@ TEST(CalibrationYaml, EveryShapeAndValueProblemIsListedNamingTheFileAndField) {
   }
   EXPECT_NE(messageOf([] { loadCameraCalibrationFile("/nonexistent.yaml"); }).find("cannot read camera calibration '/nonexistent.yaml'"),
             std::string::npos);
+  EXPECT_NE(messageOf([] { loadCameraCalibrationFile(testing::TempDir()); }).find("': a folder, not a file"),
+            std::string::npos) << "yaml-cpp alone says only 'basic_filebuf::underflow error'";
 }
 
 TEST(CalibrationYaml, ANanFocalLengthIsNamedOnceNotAlsoAsSkew) {

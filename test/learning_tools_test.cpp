@@ -104,6 +104,15 @@ TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
   EXPECT_NE(log.find("annotations/lost.xml: no image of that name"), std::string::npos) << log;
   EXPECT_EQ(runTool(learn + " --folds 1 --detections-out " + (dir / "d.json").string(), dir / "learn.log"), 2);
   EXPECT_NE(readText(dir / "learn.log").find("--detections-out needs cross-validation"), std::string::npos);
+  // An output over a file learnt from (a label here), or two outputs in one file: refused before anything is read.
+  const std::string over_label = std::string(UWS_LEARN_COLOURS) + " --images " + (dir / "images").string() +
+                                 " --annotations " + (dir / "annotations").string() + " --out " +
+                                 (dir / "annotations/frame.xml").string();
+  EXPECT_EQ(runTool(over_label, dir / "learn.log"), 2);
+  EXPECT_NE(readText(dir / "learn.log").find("frame.xml is a file learnt from"), std::string::npos)
+      << readText(dir / "learn.log");
+  EXPECT_EQ(runTool(learn + " --detections-out " + (dir / "out.yaml").string(), dir / "learn.log"), 2);
+  EXPECT_NE(readText(dir / "learn.log").find("out.yaml is also --out"), std::string::npos) << readText(dir / "learn.log");
   EXPECT_EQ(runTool(learn + " --folds 2.5", dir / "learn.log"), 2);
   EXPECT_NE(readText(dir / "learn.log").find("--folds: '2.5' is not a whole number in [1, 100]"), std::string::npos)
       << readText(dir / "learn.log");

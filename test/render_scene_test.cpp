@@ -61,6 +61,8 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
   EXPECT_EQ(run("--random 2"), 2);                                       // no --out
   EXPECT_EQ(run("--random 2 --seed 12abc --out " + out.string()), 2);    // a number with text after it
   EXPECT_EQ(run("--random 2.5 --out " + out.string()), 2);
+  EXPECT_EQ(run("--random 2 --frames 3 --out " + out.string()), 2);     // --frames goes with --scene
+  EXPECT_EQ(run("--random 2 --namespace s --out " + out.string()), 2);
   EXPECT_EQ(run("--scene /nonexistent.yaml --png-dir " + out.string()), 2);  // a scene that cannot be read
   fs::remove_all(out);
 }
@@ -70,7 +72,10 @@ TEST(RenderScene, StampsAndTopicsABagCannotHoldAreRefused) {
   const fs::path bag = fs::temp_directory_path() / ("render_scene_refused_" + std::to_string(::getpid()) + ".bag");
   const std::string scene = " --scene " UWS_SOURCE_DIR "/test/scenes/small_pool.yaml --frames 1 --bag " + bag.string();
   for (const char* bad : {"--start-time nan", "--start-time -5", "--start-time 1e300", "--namespace 'bad name!'",
-                          "--frames 2abc", "--rate 0", "--rate 15hz", "--start-time 4294967295"}) {
+                          "--frames 2abc", "--rate 0", "--rate 15hz", "--start-time 4294967296",
+                          "--namespace a//b", "--namespace '~private'",
+                          // options of the other mode, which would be ignored
+                          "--size 320x200", "--seed 3", "--luma 12,40", "--out /tmp/x"}) {
     EXPECT_EQ(run(std::string(bad) + scene), 2) << bad;
     EXPECT_FALSE(fs::exists(bag)) << bad;
   }
@@ -86,7 +91,8 @@ TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
   } cases[] = {{"--size 10x10", "--size 10x10: width"}, {"--size 320x200px", "--size: '320x200px' is not WIDTHxHEIGHT"},
                {"--size 320", "--size: '320' is not WIDTHxHEIGHT"}, {"--luma 5,300", "--luma 5,300: target_luma"},
                {"--luma 40,12", "--luma 40,12: target_luma"}, {"--luma 12,40x", "--luma: '12,40x' is not LO,HI"},
-               {"--luma 12", "--luma: '12' is not LO,HI"}};
+               {"--luma 12", "--luma: '12' is not LO,HI"},
+               {"--size 640x401", "--size 640x401: width and height must be even"}};
   for (const auto& c : cases) {
     EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --random 1 " + c.option + " --out " +
                                              out.string(),

@@ -80,6 +80,9 @@ camera_motion: {yaw_rate_dps: .inf}
   EXPECT_NE(error.find("objects[2] (b).rpy_deg[0] = nan is outside [-3600, 3600]"), std::string::npos) << error;
   EXPECT_NE(error.find("objects[2] (b).motion.velocity_mps[0] = 1e+30 is outside [-100, 100]"), std::string::npos) << error;
   EXPECT_NE(error.find("camera_motion.yaw_rate_dps = inf"), std::string::npos) << error;
+  // A Bayer head of odd size: the detector could not read its images.
+  EXPECT_NE(parseError("rig: {width: 641, height: 400}").find("rig.width and rig.height must be even"), std::string::npos);
+  EXPECT_EQ(parseError("rig: {width: 640, height: 400}"), "");
 }
 
 TEST(Scene, RejectsNonMapDocumentAndMissingFile) {

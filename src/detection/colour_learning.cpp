@@ -28,10 +28,15 @@ std::string trimmed(const std::string& s) {
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
 }
 
-/// A label's colour part: what follows its last '_' (buoy_red -> red), or all of it.
-std::string afterLastUnderscore(const std::string& label) {
+/// The index in `colours` of the colour a label names: all of it, or what follows its last '_' (buoy_red -> red);
+/// -1 when it names none.
+int colourNamedBy(const std::string& label, const std::vector<std::string>& colours) {
   const std::size_t underscore = label.find_last_of('_');
-  return underscore == std::string::npos ? label : label.substr(underscore + 1);
+  const std::string suffix = underscore == std::string::npos ? label : label.substr(underscore + 1);
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    if (label == colours[k] || suffix == colours[k]) return static_cast<int>(k);
+  }
+  return -1;
 }
 
 std::string boxText(const cv::Rect& r) {
@@ -48,15 +53,17 @@ cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string&
   const char* keys[2] = {"width", "height"};
   for (int k = 0; k < 2; ++k) {
     const tinyxml2::XMLElement* field = size->FirstChildElement(keys[k]);
-    const std::string value = trimmed(field && field->GetText() ? field->GetText() : "");
+    if (!field) return {};  // a <size> holding only <depth>: no size declared
+    const std::string value = trimmed(field->GetText() ? field->GetText() : "");
     std::size_t used = 0;
-    long n = 0;
+    double n = 0;
     try {
-      n = std::stol(value, &used);
+      n = std::stod(value, &used);
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != value.size() || n < 0 || n > kMaxImageSidePx) {
+    if (used == 0 || used != value.size() || value.find_first_not_of("0123456789+-.eE") != std::string::npos ||
+        !(n >= 0 && n <= kMaxImageSidePx && n == std::floor(n))) {
       throw std::invalid_argument(path + ": <size> <" + keys[k] + "> '" + value + "' is not a whole number in [0, " +
                                   std::to_string(kMaxImageSidePx) + "]");
     }
@@ -118,7 +125,9 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used == 0 || used != value.size() || !std::isfinite(v[k])) {
+      // Decimal only: stod would also read hexadecimal ("0x20C" as 524), which no labelling tool writes.
+      if (used == 0 || used != value.size() || !std::isfinite(v[k]) ||
+          value.find_first_not_of("0123456789+-.eE") != std::string::npos) {
         throw std::invalid_argument(named + ": <" + keys[k] + "> '" + value + "' is not a number");
       }
       if (std::abs(v[k]) > kMaxImageSidePx) {  // beyond any image, and beyond an int once rounded
@@ -151,20 +160,16 @@ std::vector<std::string> LearningOptions::validate() const {
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
   if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
   for (const std::string& b : background_labels) {
-    const std::string suffix = afterLastUnderscore(b);
-    if (std::find(colours.begin(), colours.end(), suffix) != colours.end()) {
-      p.push_back("background label '" + b + "' names the colour " + suffix + " (by its name or the part after its " +
-                  "last '_'): it would be learnt as " + suffix + ", not as background");
+    if (const int k = colourNamedBy(b, colours); k >= 0) {
+      p.push_back("background label '" + b + "' names the colour " + colours[static_cast<std::size_t>(k)] +
+                  " (by its name or the part after its last '_'): it would be learnt as that colour, not as background");
     }
   }
   return p;
 }
 
 int colourOfLabel(const std::string& name, const LearningOptions& options) {
-  const std::string suffix = afterLastUnderscore(name);
-  for (std::size_t k = 0; k < options.colours.size(); ++k) {
-    if (name == options.colours[k] || suffix == options.colours[k]) return static_cast<int>(k);
-  }
+  if (const int k = colourNamedBy(name, options.colours); k >= 0) return k;
   if (std::find(options.background_labels.begin(), options.background_labels.end(), name) != options.background_labels.end()) {
     return -1;
   }

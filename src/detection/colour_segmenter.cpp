@@ -70,7 +70,9 @@ std::vector<std::string> ColourMaskConfig::validate() const {
     p.push_back("mask.saturation_floor_factor must be in [0, 10]");
   }
   if (saturation_floor_min < 0 || saturation_floor_min > 255) p.push_back("mask.saturation_floor_min must be in [0, 255]");
-  if (blur_px < 0 || blur_px > 51) p.push_back("mask.blur_px must be in [0, 51]");
+  if (blur_px < 0 || blur_px > 51 || (blur_px > 1 && blur_px % 2 == 0)) {
+    p.push_back("mask.blur_px must be 0 or 1 (no blur) or odd, in [0, 51]");  // OpenCV's Gaussian kernel is odd
+  }
   if (open_kernel_px < 0 || open_kernel_px > 101) p.push_back("mask.open_kernel_px must be in [0, 101]");
   if (close_kernel_px < 0 || close_kernel_px > 101) p.push_back("mask.close_kernel_px must be in [0, 101]");
   return p;

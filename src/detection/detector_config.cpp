@@ -33,12 +33,20 @@ bool parseColour(YamlFields& f, const YAML::Node& node, const std::string& path,
   f.optionalVector(node, "size_m", path, size, 2);
   c.min_size_m = size[0];
   c.max_size_m = size[1];
-  c.hue_min = static_cast<int>(hue[0]);
-  c.hue_max = static_cast<int>(hue[1]);
-  c.saturation_min = static_cast<int>(sat[0]);
-  c.saturation_max = static_cast<int>(sat[1]);
-  c.value_min = static_cast<int>(val[0]);
-  c.value_max = static_cast<int>(val[1]);
+  // HSV bounds are whole numbers: a NaN, a huge or a fractional one is named as written, never cast.
+  auto bounds = [&](const std::vector<double>& v, const char* key, int& lo, int& hi) {
+    for (double x : v) {
+      if (!(std::abs(x) <= 1e6 && x == std::floor(x))) {
+        f.fail(path + key + ": " + cv::format("%g", x) + " is not a whole number");
+        return;
+      }
+    }
+    lo = static_cast<int>(v[0]);
+    hi = static_cast<int>(v[1]);
+  };
+  bounds(hue, "hue", c.hue_min, c.hue_max);
+  bounds(sat, "saturation", c.saturation_min, c.saturation_max);
+  bounds(val, "value", c.value_min, c.value_max);
   return static_cast<bool>(node["hue"]);
 }
 

@@ -259,6 +259,12 @@ Scene parseScene(const YAML::Node& root) {
       problems.push_back(v);
     }
   }
+  // The head's images are Bayer mosaics (2 x 2 pixels a cell), which the detector reads only at even sizes. Checked
+  // for scene files, not in validate(): the sampler's exposure renders at a fraction of the size, odd or not.
+  if (s.rig.width % 2 != 0 || s.rig.height % 2 != 0) {
+    problems.push_back("rig.width and rig.height must be even (the head renders a Bayer mosaic), got " +
+                       std::to_string(s.rig.width) + "x" + std::to_string(s.rig.height));
+  }
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
   return s;
 }

@@ -174,6 +174,10 @@ std::vector<std::string> SceneSamplerConfig::validate() const {
   };
   ordered("width", width, width, 16, 8192);
   ordered("height", height, height, 16, 8192);
+  if (width % 2 != 0 || height % 2 != 0) {  // a Bayer mosaic repeats every 2 x 2 pixels
+    p.push_back("width and height must be even (the head renders a Bayer mosaic), got " + std::to_string(width) + "x" +
+                std::to_string(height));
+  }
   ordered("designated_objects", designated_objects.first, designated_objects.second, 1, 20);
   ordered("distractors", distractors.first, distractors.second, 0, 20);
   ordered("range_m", range_m.first, range_m.second, 0.3, 50);

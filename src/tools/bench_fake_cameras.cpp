@@ -21,6 +21,8 @@
 #include <iostream>
 #include <string>
 
+#include "tool_helpers.h"
+
 namespace {
 
 std::atomic<bool> stop{false};
@@ -142,10 +144,10 @@ int usage() {
 int main(int argc, char** argv) {
   double trigger_hz = kDefaultTriggerHz;
   if (argc > 2 && std::string(argv[1]) == "--trigger-hz") {
-    char* end = nullptr;
-    trigger_hz = std::strtod(argv[2], &end);
-    if (end == argv[2] || *end != '\0' || !(trigger_hz >= 1 && trigger_hz <= 1000)) {
-      std::cerr << "bench_fake_cameras: --trigger-hz must be a number in [1, 1000], got '" << argv[2] << "'\n";
+    try {
+      trigger_hz = underwater_stereo::tools::numberIn(argv[2], 1, 1000, "--trigger-hz");
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "bench_fake_cameras: " << e.what() << "\n";
       return 2;
     }
     argc -= 2;

@@ -95,6 +95,37 @@ int main(int argc, char** argv) {
     std::cerr << kUsage;
     return 2;
   }
+  // The configuration and every scene (and the detector on its rig) read before anything is timed: a bad one is
+  // named at once (exit 2), not after the scenes before it.
+  DetectorConfig config;
+  std::vector<std::pair<std::string, sim::Scene>> scene_files;
+  {
+    std::vector<std::string> problems;
+    bool config_loaded = false;
+    try {
+      config = loadDetectorConfigFile(config_path);
+      config_loaded = true;
+    } catch (const std::exception& e) {
+      problems.push_back(e.what());
+    }
+    for (const std::string& path : scenes) {
+      try {
+        scene_files.emplace_back(path, sim::loadSceneFile(path));
+      } catch (const std::exception& e) {
+        problems.push_back(e.what());
+        continue;
+      }
+      try {
+        if (config_loaded) Detector(config, sim::Renderer(scene_files.back().second).calibration());
+      } catch (const std::exception& e) {
+        problems.push_back(path + ": the detector refuses its rig: " + e.what());
+      }
+    }
+    if (!problems.empty()) {
+      for (const std::string& p : problems) std::cerr << "benchmark_detector: " << p << "\n";
+      return 2;
+    }
+  }
   std::ofstream csv;
   if (!csv_path.empty()) {
     csv.open(csv_path);
@@ -112,9 +143,8 @@ int main(int argc, char** argv) {
   std::vector<double> all_totals;
   std::vector<std::string> paced;
   try {
-    const DetectorConfig config = loadDetectorConfigFile(config_path);
-    for (const std::string& path : scenes) {
-      const sim::Renderer renderer(sim::loadSceneFile(path));
+    for (const auto& [path, scene] : scene_files) {
+      const sim::Renderer renderer(scene);
       std::vector<Pair> pairs;
       for (int k = 0; k < frames; ++k) {
         const sim::RenderedPair r = renderer.render(k / rate, k);

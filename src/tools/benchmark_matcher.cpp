@@ -32,11 +32,15 @@ double nsPerPixel(F&& f, int repeat, int w, int h, int disparities) {
 
 }  // namespace
 
-int main(int argc, char**) {
+int main(int argc, char** argv) {
   if (argc > 1) {
-    std::cerr << "usage: benchmark_matcher\n  Times Sgbm3WayMatcher and cv::StereoSGBM (3WAY, block 5, the detector's\n"
-                 "  settings) on 500x300 bands of smooth random texture, OpenCV single-threaded.\n";
-    return 2;
+    const std::string arg = argv[1];
+    const bool help = arg == "--help" || arg == "-h";
+    if (!help) std::cerr << "benchmark_matcher: takes no options (got " << arg << ")\n";
+    (help ? std::cout : std::cerr)
+        << "usage: benchmark_matcher\n  Times Sgbm3WayMatcher and cv::StereoSGBM (3WAY, block 5, the detector's\n"
+           "  settings) on 500x300 bands of smooth random texture, OpenCV single-threaded.\n";
+    return help ? 0 : 2;
   }
   cv::setNumThreads(1);
   std::cout << "AVX2 matcher: " << (Sgbm3WayMatcher::accelerated() ? "yes" : "no (OpenCV's is used)") << "\n\n"

@@ -17,7 +17,7 @@ using namespace underwater_stereo;
 
 int main(int argc, char** argv) {
   int objects = 10, frames = 3000;
-  const char* usage = "usage: benchmark_tracker [--objects N (10)] [--frames N (3000)]\n";
+  const char* usage = "usage: benchmark_tracker [--objects N (10, at most 15)] [--frames N (3000)]\n";
   try {
     for (int i = 1; i < argc; i += 2) {
       const std::string arg = argv[i];
@@ -25,10 +25,11 @@ int main(int argc, char** argv) {
         std::fputs(usage, stdout);
         return 0;
       }
+      if (arg != "--objects" && arg != "--frames") throw std::invalid_argument("unknown option " + arg);
       if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-      if (arg == "--objects") objects = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 1, 10000, arg));
-      else if (arg == "--frames") frames = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 10, 10000000, arg));
-      else throw std::invalid_argument("unknown option " + arg);
+      // At most 15: the objects stand on a grid of 5 x 3 places in view (more would stand behind them, hidden).
+      if (arg == "--objects") objects = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 1, 15, arg));
+      else frames = static_cast<int>(tools::wholeNumberIn(argv[i + 1], 10, 10000000, arg));
     }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "benchmark_tracker: %s\n%s", e.what(), usage);
@@ -40,8 +41,8 @@ int main(int argc, char** argv) {
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0.0, 0.01);
   std::vector<Eigen::Vector3d> truth;
-  // Rows of five, 0.6 m apart at 3-4 m: every object clear of the others in the image (none hidden or merged).
-  for (int i = 0; i < objects; ++i) truth.emplace_back(-1.2 + 0.6 * (i % 5), -0.6 + 0.6 * (i / 5 % 3), 3.0 + 0.2 * (i / 15));
+  // Rows of five, 0.6 m apart at 3 m: every object clear of the others in the image (none hidden or merged).
+  for (int i = 0; i < objects; ++i) truth.emplace_back(-1.2 + 0.6 * (i % 5), -0.6 + 0.6 * (i / 5), 3.0);
   std::vector<double> us;
   for (int k = 0; k < frames; ++k) {
     TrackingFrame f;

@@ -4,6 +4,7 @@
 #include <ros/package.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -67,12 +68,14 @@ std::vector<std::string> expand(const std::string& option, const std::string& pa
   return out;
 }
 
-/// Whether `line` leaves a double quote open (inside quotes a backslash escapes the next character).
+/// Whether `line` leaves a double quote open, as std::quoted reads it: a quote opens only at the start of a word
+/// (elsewhere it is a character of the path); inside, a backslash escapes the next character and a quote closes.
 bool unclosedQuote(const std::string& line) {
   bool inside = false;
   for (std::size_t i = 0; i < line.size(); ++i) {
     if (inside && line[i] == '\\') ++i;
-    else if (line[i] == '"') inside = !inside;
+    else if (inside && line[i] == '"') inside = false;
+    else if (!inside && line[i] == '"' && (i == 0 || std::isspace(static_cast<unsigned char>(line[i - 1])))) inside = true;
   }
   return inside;
 }
@@ -117,7 +120,10 @@ Options parse(int argc, char** argv) {
     std::ifstream in(o.list);
     if (!in) throw std::invalid_argument("cannot read the list file " + o.list);
     std::string line;
+    const std::size_t listed = o.images.size() + o.left.size();
     for (int n = 1; std::getline(in, line); ++n) {
+      if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark, not a path
+      if (!line.empty() && line.back() == '\r') line.pop_back();          // a list written on Windows
       if (line.empty() || line[0] == '#') continue;
       if (unclosedQuote(line)) throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": a double quote not closed");
       std::istringstream words(line);
@@ -134,6 +140,9 @@ Options parse(int argc, char** argv) {
         o.left.push_back(a);
         o.right.push_back(b);
       }
+    }
+    if (o.images.size() + o.left.size() == listed) {
+      throw std::invalid_argument("the list file " + o.list + " names no frame (one 'LEFT RIGHT' or 'IMAGE' per line)");
     }
   }
   if (o.left.size() != o.right.size()) {

@@ -93,7 +93,8 @@ void addRecords(const std::string& path, const std::string& config_path, const s
     std::error_code error;
     if (made_with != config_path && !std::filesystem::equivalent(made_with, config_path, error)) {
       std::cerr << "learn_checks: note: " << path << " was made with " << made_with << ", not " << config_path
-                << ": learn from records of the colour model the check is for\n";
+                << " (or that path does not lead to it from here): learn from records of the colour model the check "
+                << "is for\n";
     }
   }
   tools::forEachRecordPair(root, path, [&](const YAML::Node& pair, const std::string& where) {

@@ -173,6 +173,43 @@ std::vector<std::string> annotationsIn(const std::string& dir) {
   return out;
 }
 
+/// The colour model file written beside the configuration `out` (FILE.yaml -> FILE.colour_model.yml.gz; FileStorage
+/// gzips it: a forest is ~3 MB as text).
+std::string modelPathOf(const std::string& out) {
+  std::string stem = out;
+  if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
+  return stem + ".colour_model.yml.gz";
+}
+
+/// @throw std::invalid_argument when an output (--out, its colour model, --detections-out) is a file in an --images
+/// or --annotations folder (a frame or label would be overwritten), or two outputs are one file. --out may be --base:
+/// the base is read before it is written over.
+void refuseOverwritingInputs(const Options& o) {
+  std::vector<std::pair<std::string, std::string>> outputs{{"--out", o.out}, {"--out's colour model", modelPathOf(o.out)}};
+  if (!o.detections_out.empty()) outputs.emplace_back("--detections-out", o.detections_out);
+  std::vector<std::string> folders = o.images;
+  folders.insert(folders.end(), o.annotations.begin(), o.annotations.end());
+  std::error_code error;
+  for (const auto& [option, path] : outputs) {
+    for (const std::string& folder : folders) {
+      for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+        if (std::filesystem::equivalent(entry.path(), path, error)) {
+          throw std::invalid_argument(option + " " + path + " is a file learnt from (in " + folder +
+                                      "): it would be overwritten");
+        }
+      }
+    }
+  }
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (std::filesystem::weakly_canonical(outputs[i].second, error) ==
+          std::filesystem::weakly_canonical(outputs[j].second, error)) {
+        throw std::invalid_argument(outputs[i].first + " " + outputs[i].second + " is also " + outputs[j].first);
+      }
+    }
+  }
+}
+
 /// Every frame of every folder pair; every problem (unreadable image or XML, missing annotation, annotation without
 /// image, two images of one name) listed.
 std::vector<LabelledFrame> readFrames(const Options& o) {
@@ -414,6 +451,7 @@ int main(int argc, char** argv) {
     }
     const auto problems = o.learning.validate();
     if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid options", problems));
+    refuseOverwritingInputs(o);
   } catch (const std::exception& e) {
     std::cerr << "learn_colours: " << e.what() << "\n" << kUsage;
     return 2;
@@ -461,7 +499,7 @@ int main(int argc, char** argv) {
         return learnColourModel(samplesOfFrames(indices), o.learning);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(what + " (" + std::to_string(indices.size()) + " frames): " + e.what() +
-                                    " (label more frames of it" +
+                                    " (label more frames" +
                                     (indices.size() < frames.size() ? ", or give fewer --folds)" : ")"));
       }
     };
@@ -557,9 +595,7 @@ int main(int argc, char** argv) {
                   thresholdsText(per_colour, o.learning).c_str());
     }
     const ColourModel model = learnOn(everything, "all frames");
-    std::string stem = o.out;
-    if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
-    const std::string model_path = stem + ".colour_model.yml.gz";  // FileStorage gzips it (a forest is ~3 MB as text)
+    const std::string model_path = modelPathOf(o.out);
     model.save(model_path);
     writeConfig(o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning,
                 o.choose.empty() ? o.min_confidence : o.choose.front(), per_colour);

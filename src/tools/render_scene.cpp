@@ -11,6 +11,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <iomanip>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
@@ -64,9 +66,11 @@ cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
 bool parse(int argc, char** argv, Options& o, std::string& error) {
   namespace tools = underwater_stereo::tools;
   tools::SamplerOptions sampler_given;
+  std::vector<std::string> given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
+    given.push_back(arg);
     if (i + 1 >= argc) {
       error = arg + " needs a value";
       return false;
@@ -79,7 +83,7 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       else if (arg == "--namespace") o.ns = value;
       else if (arg == "--frames") o.frames = static_cast<int>(tools::wholeNumberIn(value, 1, 1000000, arg));
       else if (arg == "--rate") o.rate_hz = tools::numberIn(value, 1e-3, 1e3, arg);
-      else if (arg == "--start-time") o.start_time_s = tools::numberIn(value, 0, 4294967295.0, arg);
+      else if (arg == "--start-time") o.start_time_s = tools::numberIn(value, 0, 4294967295.999, arg);
       else if (arg == "--random") o.random = static_cast<int>(tools::wholeNumberIn(value, 1, 10000000, arg));
       else if (arg == "--seed") o.seed = tools::wholeNumberIn(value, 0, 1LL << 62, arg);
       else if (arg == "--out") o.out_dir = value;
@@ -95,17 +99,32 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
       return false;
     }
   }
-  if (o.random != 0 || !o.out_dir.empty()) {
-    if (!o.scene.empty() || !o.bag.empty() || !o.png_dir.empty()) error = "--random does not go with --scene, --bag, --png-dir";
-    else if (o.out_dir.empty()) error = "--random needs --out DIR";
+  // An option of the other mode would be ignored: refused instead, naming the mode it goes with.
+  static const std::vector<std::string> kRandomOnly{"--random", "--seed", "--out", "--size", "--luma"};
+  static const std::vector<std::string> kSceneOnly{"--scene", "--bag", "--png-dir", "--namespace", "--frames", "--rate",
+                                                   "--start-time"};
+  const bool random = o.random != 0;
+  for (const std::string& option : given) {
+    const std::vector<std::string>& other = random ? kSceneOnly : kRandomOnly;
+    if (std::find(other.begin(), other.end(), option) != other.end()) {
+      error = option + (random ? " goes with --scene, not with --random" : " goes with --random N, not with --scene");
+      return false;
+    }
+  }
+  if (random) {
+    if (o.out_dir.empty()) error = "--random needs --out DIR";
     else error = sampler_given.problem(o.sampler);
     return error.empty();
   }
   if (o.scene.empty()) error = "--scene is required";
   else if (o.bag.empty() && o.png_dir.empty()) error = "give --bag and/or --png-dir";
   else if (std::string why; !ros::names::validate(o.ns, why)) error = "--namespace '" + o.ns + "': " + why;
+  // ros::names::validate lets an empty segment and a private name through: neither makes a topic in a bag.
+  else if (o.ns.find("//") != std::string::npos || (!o.ns.empty() && o.ns[0] == '~')) {
+    error = "--namespace '" + o.ns + "': no empty segment ('//') and no private name ('~')";
+  }
   // ros::Time holds 0 .. 2^32 s; the last frame's stamp must fit too.
-  else if (!(o.start_time_s + (o.frames - 1) / o.rate_hz < 4294967295.0)) {
+  else if (!(o.start_time_s + (o.frames - 1) / o.rate_hz < 4294967296.0)) {
     error = "the last frame's stamp (--start-time + (--frames - 1) / --rate = " +
             std::to_string(o.start_time_s + (o.frames - 1) / o.rate_hz) + " s) must lie below 2^32 s";
   }

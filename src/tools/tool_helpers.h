@@ -23,11 +23,12 @@
 namespace underwater_stereo {
 namespace tools {
 
-/// `text` as a number into `out`: false (out untouched) unless the whole of it is one, leading blanks allowed.
+/// `text` as a number into `out`: false (out untouched) unless the whole of it is one, leading blanks allowed; decimal
+/// only (strtod would also read hexadecimal: "0x10" as 16).
 inline bool parseNumber(const std::string& text, double& out) {
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || end == text.c_str() || *end != '\0') return false;
+  if (text.empty() || end == text.c_str() || *end != '\0' || text.find_first_of("xX") != std::string::npos) return false;
   out = v;
   return true;
 }
@@ -36,8 +37,8 @@ inline bool parseNumber(const std::string& text, double& out) {
 template <typename Number>
 std::invalid_argument notANumberIn(const std::string& text, Number lo, Number hi, bool whole, const std::string& what) {
   std::ostringstream message;
-  message << what << ": '" << text << "' is not " << (whole ? "a whole number" : "a number") << " in [" << lo << ", "
-          << hi << "]";
+  message << std::setprecision(15) << what << ": '" << text << "' is not " << (whole ? "a whole number" : "a number")
+          << " in [" << lo << ", " << hi << "]";
   return std::invalid_argument(message.str());
 }
 

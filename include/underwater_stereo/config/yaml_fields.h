@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
@@ -97,6 +98,10 @@ std::vector<std::string> repeatedKeys(const YAML::Node& node);
 /// `parse` included).
 template <typename Parse>
 auto parseYamlFile(const std::string& path, const std::string& what, Parse parse) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {  // yaml-cpp would say only "basic_filebuf::underflow error"
+    throw std::invalid_argument("cannot read " + what + " '" + path + "': a folder, not a file");
+  }
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
