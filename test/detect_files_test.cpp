@@ -140,6 +140,9 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   std::ofstream(path("quote.txt")) << "\"" << path("left.png") << "\n";
   EXPECT_NE(firstLine("--list " + path("quote.txt")).find(path("quote.txt") + ":1: a double quote not closed"),
             std::string::npos) << firstLine("--list " + path("quote.txt"));
+  // An option of one value given twice: refused, not the last one taken (the first list's frames were dropped).
+  EXPECT_NE(firstLine("--list " + path("pairs.txt") + " --list " + path("pairs.txt")).find("--list is given twice"),
+            std::string::npos);
   std::ofstream(path("empty_list.txt")) << "# nothing\n";
   EXPECT_NE(firstLine("--list " + path("empty_list.txt")).find("the list file " + path("empty_list.txt") + " names no frame"),
             std::string::npos) << firstLine("--list " + path("empty_list.txt"));

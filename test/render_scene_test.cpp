@@ -63,6 +63,7 @@ TEST(RenderScene, RandomScenesBecomeVocTrainingData) {
   EXPECT_EQ(run("--random 2.5 --out " + out.string()), 2);
   EXPECT_EQ(run("--random 2 --frames 3 --out " + out.string()), 2);     // --frames goes with --scene
   EXPECT_EQ(run("--random 2 --namespace s --out " + out.string()), 2);
+  EXPECT_EQ(run("--random 2 --seed 1 --seed 2 --out " + out.string()), 2);  // which seed was meant?
   EXPECT_EQ(run("--scene /nonexistent.yaml --png-dir " + out.string()), 2);  // a scene that cannot be read
   fs::remove_all(out);
 }

@@ -56,8 +56,17 @@ int main(int argc, char** argv) {
   bool summary = false;
   double pace_hz = 0;
   std::vector<std::string> scenes;
+  tools::OptionsGiven given;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a.rfind("--", 0) == 0) {
+      try {
+        given.add(a);
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "benchmark_detector: " << e.what() << "\n" << kUsage;
+        return 2;
+      }
+    }
     auto value = [&]() -> std::string {
       if (i + 1 >= argc) {
         std::cerr << "benchmark_detector: " << a << " needs a value\n" << kUsage;

@@ -20,6 +20,7 @@
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_file.h"
+#include "tool_helpers.h"
 
 using namespace underwater_stereo;
 
@@ -82,6 +83,7 @@ bool unclosedQuote(const std::string& line) {
 
 Options parse(int argc, char** argv) {
   Options o;
+  underwater_stereo::tools::OptionsGiven given({"--left", "--right", "--image"});
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
@@ -99,6 +101,7 @@ Options parse(int argc, char** argv) {
       throw std::invalid_argument("stray argument '" + arg + "': images go after --image, --left or --right (one " +
                                   "file or one quoted pattern each)");
     }
+    given.add(arg);
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string value = argv[++i];
     auto append = [&](std::vector<std::string>& to) {

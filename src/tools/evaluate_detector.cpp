@@ -333,11 +333,15 @@ int main(int argc, char** argv) {
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
   std::vector<std::string> given;  // the options given, to check each against the mode
+  tools::OptionsGiven given_once;  // and that none is given twice
   tools::SamplerOptions sampler_given;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
-      if (a.size() > 2 && a.compare(0, 2, "--") == 0) given.push_back(a);
+      if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
+        given.push_back(a);
+        given_once.add(a);
+      }
       auto value = [&]() -> std::string {
         if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
         return argv[++i];

@@ -81,12 +81,14 @@ std::vector<std::string> split(const std::string& s) {
 
 Options parse(int argc, char** argv) {
   Options o;
+  tools::OptionsGiven given({"--images", "--annotations"});
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") {
       std::cout << kUsage;
       std::exit(0);
     }
+    given.add(arg);
     if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
     const std::string v = argv[++i];
     auto number = [&](double lo, double hi) { return tools::numberIn(v, lo, hi, arg); };
@@ -370,15 +372,19 @@ std::string shortest(double x) {
 }
 
 /// Held-out detections counted at `min_confidence` (per colour) as detect_files' JSON lines, for scripts/evaluate_transdec --detections; nothing when `out` is not open.
+/// Each frame's quality report is assessed with `quality` (the base's) on the whole frame (detect_files assesses the
+/// frame it searches, scaled: the figures agree within a fraction of a level).
 void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector<std::vector<Detection>>& detections,
-                     const std::vector<double>& min_confidence, const LearningOptions& options, std::ofstream& out) {
+                     const std::vector<double>& min_confidence, const LearningOptions& options,
+                     const QualityConfig& quality, std::ofstream& out) {
   if (!out.is_open()) return;
   for (std::size_t f = 0; f < frames.size(); ++f) {
+    const QualityReport report = assessQuality(frames[f].image, quality);
     int id = 0;
     for (const Detection& d : detections[f]) {
       const auto it = std::find(options.colours.begin(), options.colours.end(), d.colour);
       if (it == options.colours.end() || d.confidence < min_confidence[it - options.colours.begin()]) continue;
-      out << detectionJson(frames[f].name, id++, d, QualityReport{}, false) << "\n";
+      out << detectionJson(frames[f].name, id++, d, report, false) << "\n";
     }
   }
   if (!out) throw std::runtime_error("--detections-out: cannot be written");
@@ -561,7 +567,7 @@ int main(int argc, char** argv) {
           for (Miss& m : explainMisses(chosen, held_out, found, o.learning, choice.min_confidence)) {
             misses.push_back({static_cast<int>(k), std::move(m)});
           }
-          writeDetections(held_out, found, choice.min_confidence, o.learning, held_out_detections);
+          writeDetections(held_out, found, choice.min_confidence, o.learning, base.quality, held_out_detections);
         }
         if (!o.choose.empty() && o.sweep.empty()) continue;  // no single threshold to score
         const Detector fold_detector(configWith(model, thresholds.front(), {}));
@@ -571,7 +577,7 @@ int main(int argc, char** argv) {
         }
         if (o.choose.empty()) {
           writeDetections(held_out, found, std::vector<double>(o.learning.colours.size(), min_confidence), o.learning,
-                          held_out_detections);
+                          base.quality, held_out_detections);
         }
       }
       const std::string heading = std::to_string(o.folds) + "-fold cross-validation by frame (" +

@@ -67,10 +67,17 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
   namespace tools = underwater_stereo::tools;
   tools::SamplerOptions sampler_given;
   std::vector<std::string> given;
+  tools::OptionsGiven given_once;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
     given.push_back(arg);
+    try {
+      given_once.add(arg);
+    } catch (const std::invalid_argument& e) {
+      error = e.what();
+      return false;
+    }
     if (i + 1 >= argc) {
       error = arg + " needs a value";
       return false;

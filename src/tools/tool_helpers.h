@@ -61,6 +61,25 @@ inline long long wholeNumberIn(const std::string& text, long long lo, long long 
   return v;
 }
 
+/// The options a command line gave so far: one that takes a single value, given twice, is refused (the last value
+/// would win without a word; `detect_files --list a --list b` dropped a's frames).
+class OptionsGiven {
+ public:
+  /// `repeatable`: the options that may come more than once (each adds a value).
+  explicit OptionsGiven(std::vector<std::string> repeatable = {}) : repeatable_(std::move(repeatable)) {}
+  /// @throw std::invalid_argument "<option> is given twice" when `option` came before and is not repeatable.
+  void add(const std::string& option) {
+    if (std::find(repeatable_.begin(), repeatable_.end(), option) != repeatable_.end()) return;
+    if (std::find(given_.begin(), given_.end(), option) != given_.end()) {
+      throw std::invalid_argument(option + " is given twice (one would silently win over the other)");
+    }
+    given_.push_back(option);
+  }
+
+ private:
+  std::vector<std::string> repeatable_, given_;
+};
+
 /// `text` as WIDTHxHEIGHT (two whole numbers and nothing else) into `width` and `height`; false (both untouched)
 /// otherwise.
 inline bool parseImageSize(const std::string& text, int& width, int& height) {
@@ -213,6 +232,10 @@ inline int parseRecordsCommandLine(int argc, char** argv, const std::string& too
       return 0;
     }
     if (values.count(a) != 0 && i + 1 < argc) {
+      if (!values[a].empty()) {
+        std::cerr << tool << ": " << a << " is given twice (one would silently win over the other)\n" << usage;
+        return 2;
+      }
       values[a] = argv[++i];
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << tool << ": unknown option or option without its value: " << a << "\n" << usage;
