@@ -219,7 +219,8 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   std::vector<std::string> problems;
   for (std::size_t d = 0; d < o.images.size(); ++d) {
     std::map<std::string, std::string> image_of_stem;  // one frame per annotation: 001.png and 001.jpg are one frame
-    for (const std::string& name : imagesIn(o.images[d])) {
+    const std::vector<std::string> names = imagesIn(o.images[d]);  // sorted: the frames' order, which deals the folds
+    for (const std::string& name : names) {
       const std::string stem = name.substr(0, name.find_last_of('.'));
       if (const auto [at, added] = image_of_stem.emplace(stem, name); !added) {
         problems.push_back(o.images[d] + "/" + name + " and " + at->second + " share the annotation " + stem +
@@ -232,7 +233,9 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
                            o.images[d]);
       }
     }
-    for (const auto& [stem, name] : image_of_stem) {
+    for (const std::string& name : names) {
+      const std::string stem = name.substr(0, name.find_last_of('.'));
+      if (image_of_stem.at(stem) != name) continue;  // the second image of one frame (named above)
       LabelledFrame f;
       f.name = o.images[d] + "/" + name;
       try {
