@@ -44,6 +44,23 @@ std::string boxText(const cv::Rect& r) {
          std::to_string(r.br().y) + "]";
 }
 
+/// `text`, all of it, as a finite decimal number into `out`; false otherwise (stod would also read hexadecimal,
+/// "0x20C" as 524, which no labelling tool writes).
+bool decimalNumber(const std::string& text, double& out) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (used != text.size() || !std::isfinite(v) || text.find_first_not_of("0123456789+-.eE") != std::string::npos) {
+    return false;
+  }
+  out = v;
+  return true;
+}
+
 /// The image size a VOC <annotation>'s <size> declares (empty when it has none, or a side of 0). @throw
 /// std::invalid_argument naming `path` when its <width> or <height> is no whole number in [0, kMaxImageSidePx].
 cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string& path) {
@@ -55,15 +72,8 @@ cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string&
     const tinyxml2::XMLElement* field = size->FirstChildElement(keys[k]);
     if (!field) return {};  // a <size> holding only <depth>: no size declared
     const std::string value = trimmed(field->GetText() ? field->GetText() : "");
-    std::size_t used = 0;
-    double n = 0;
-    try {
-      n = std::stod(value, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || value.find_first_not_of("0123456789+-.eE") != std::string::npos ||
-        !(n >= 0 && n <= kMaxImageSidePx && n == std::floor(n))) {
+    double n = -1;
+    if (!decimalNumber(value, n) || !(n >= 0 && n <= kMaxImageSidePx && n == std::floor(n))) {
       throw std::invalid_argument(path + ": <size> <" + keys[k] + "> '" + value + "' is not a whole number in [0, " +
                                   std::to_string(kMaxImageSidePx) + "]");
     }
@@ -119,15 +129,7 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
       const tinyxml2::XMLElement* field = box->FirstChildElement(keys[k]);
       if (!field) throw std::invalid_argument(named + " has no <" + keys[k] + ">");
       const std::string& value = written[k] = trimmed(field->GetText() ? field->GetText() : "");
-      std::size_t used = 0;
-      try {
-        v[k] = std::stod(value, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      // Decimal only: stod would also read hexadecimal ("0x20C" as 524), which no labelling tool writes.
-      if (used == 0 || used != value.size() || !std::isfinite(v[k]) ||
-          value.find_first_not_of("0123456789+-.eE") != std::string::npos) {
+      if (!decimalNumber(value, v[k])) {
         throw std::invalid_argument(named + ": <" + keys[k] + "> '" + value + "' is not a number");
       }
       if (std::abs(v[k]) > kMaxImageSidePx) {  // beyond any image, and beyond an int once rounded

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "underwater_stereo/detection/detector.h"
+#include "scene_files.h"
 #include "tool_helpers.h"
 #include "underwater_stereo/sim/renderer.h"
 
@@ -117,19 +118,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       problems.push_back(e.what());
     }
-    for (const std::string& path : scenes) {
-      try {
-        scene_files.emplace_back(path, sim::loadSceneFile(path));
-      } catch (const std::exception& e) {
-        problems.push_back(e.what());
-        continue;
-      }
-      try {
-        if (config_loaded) Detector(config, sim::Renderer(scene_files.back().second).calibration());
-      } catch (const std::exception& e) {
-        problems.push_back(path + ": the detector refuses its rig: " + e.what());
-      }
-    }
+    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, problems);
     if (!problems.empty()) {
       for (const std::string& p : problems) std::cerr << "benchmark_detector: " << p << "\n";
       return 2;

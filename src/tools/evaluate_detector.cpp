@@ -21,6 +21,7 @@
 #include "brightness_sweep.h"
 #include "random_evaluation.h"
 #include "sampler_options.h"
+#include "scene_files.h"
 #include "tool_helpers.h"
 #include <yaml-cpp/yaml.h>
 
@@ -332,16 +333,12 @@ int main(int argc, char** argv) {
   RandomOptions random;
   sim::SceneSamplerConfig sampler;
   std::vector<std::string> scenes;
-  std::vector<std::string> given;  // the options given, to check each against the mode
-  tools::OptionsGiven given_once;  // and that none is given twice
+  tools::OptionsGiven given;  // the options given: none twice, each checked against the mode
   tools::SamplerOptions sampler_given;
   try {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
-      if (a.size() > 2 && a.compare(0, 2, "--") == 0) {
-        given.push_back(a);
-        given_once.add(a);
-      }
+      if (a.size() > 2 && a.compare(0, 2, "--") == 0) given.add(a);
       auto value = [&]() -> std::string {
         if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
         return argv[++i];
@@ -382,7 +379,7 @@ int main(int argc, char** argv) {
     if (modes != 1) throw std::invalid_argument("give scene files, --random N or --paper-brightness (one of them)");
     // An option of another mode would be ignored: refused instead, naming the mode it goes with.
     const Mode mode = random.pairs > 0 ? Mode::kRandom : paper_brightness ? Mode::kPaperBrightness : Mode::kSceneFiles;
-    for (const std::string& option : given) {
+    for (const std::string& option : given.options()) {
       const std::vector<Mode> modes_of = modesOf(option);
       if (modes_of.empty() || std::find(modes_of.begin(), modes_of.end(), mode) != modes_of.end()) continue;
       std::string goes_with;
@@ -419,23 +416,12 @@ int main(int argc, char** argv) {
     }
     // The detector must take each rig (image size, baseline) too: a scene the simulator renders but the detector
     // refuses is named now, not after the table's header.
-    auto checkRig = [&](const std::string& named, const sim::Scene& scene) {
-      if (!config_loaded) return;  // no configuration to check it with
-      try {
-        const Detector detector(config, sim::Renderer(scene).calibration());
-      } catch (const std::exception& e) {
-        problems.push_back(named + ": the detector refuses its rig: " + e.what());
-      }
-    };
-    for (const auto& path : scenes) {
-      try {
-        scene_files.emplace_back(path, sim::loadSceneFile(path));
-        checkRig(path, scene_files.back().second);
-      } catch (const std::exception& e) {
-        problems.push_back(e.what());
-      }
+    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, problems);
+    if (scenes.empty() && config_loaded) {
+      const std::string problem =
+          tools::rigProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)");
+      if (!problem.empty()) problems.push_back(problem);
     }
-    if (scenes.empty()) checkRig("the sampled scenes (--size)", sim::sampleScene(random.seed, sampler).scene);
     if (!problems.empty()) {
       for (const auto& p : problems) std::cerr << "evaluate_detector: " << p << "\n";
       return 2;

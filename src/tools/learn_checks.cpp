@@ -89,7 +89,8 @@ void addRecords(const std::string& path, const std::string& config_path, const s
                                 "lack what the check turned down");
   }
   if (root["config"]) {  // the configuration the records were made with: its colour model gave their features
-    const std::string made_with = root["config"].as<std::string>().substr(0, root["config"].as<std::string>().find(" --"));
+    const std::string command = root["config"].as<std::string>();
+    const std::string made_with = command.substr(0, command.find(" --"));
     std::error_code error;
     if (made_with != config_path && !std::filesystem::equivalent(made_with, config_path, error)) {
       std::cerr << "learn_checks: note: " << path << " was made with " << made_with << ", not " << config_path

@@ -66,14 +66,12 @@ cv::Mat demosaiced(const cv::Mat& image, const std::string& encoding) {
 bool parse(int argc, char** argv, Options& o, std::string& error) {
   namespace tools = underwater_stereo::tools;
   tools::SamplerOptions sampler_given;
-  std::vector<std::string> given;
-  tools::OptionsGiven given_once;
+  tools::OptionsGiven given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "-h" || arg == "--help") return false;
-    given.push_back(arg);
     try {
-      given_once.add(arg);
+      given.add(arg);
     } catch (const std::invalid_argument& e) {
       error = e.what();
       return false;
@@ -111,7 +109,7 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
   static const std::vector<std::string> kSceneOnly{"--scene", "--bag", "--png-dir", "--namespace", "--frames", "--rate",
                                                    "--start-time"};
   const bool random = o.random != 0;
-  for (const std::string& option : given) {
+  for (const std::string& option : given.options()) {
     const std::vector<std::string>& other = random ? kSceneOnly : kRandomOnly;
     if (std::find(other.begin(), other.end(), option) != other.end()) {
       error = option + (random ? " goes with --scene, not with --random" : " goes with --random N, not with --scene");

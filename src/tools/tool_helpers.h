@@ -69,12 +69,14 @@ class OptionsGiven {
   explicit OptionsGiven(std::vector<std::string> repeatable = {}) : repeatable_(std::move(repeatable)) {}
   /// @throw std::invalid_argument "<option> is given twice" when `option` came before and is not repeatable.
   void add(const std::string& option) {
-    if (std::find(repeatable_.begin(), repeatable_.end(), option) != repeatable_.end()) return;
-    if (std::find(given_.begin(), given_.end(), option) != given_.end()) {
+    if (std::find(given_.begin(), given_.end(), option) == given_.end()) {
+      given_.push_back(option);
+    } else if (std::find(repeatable_.begin(), repeatable_.end(), option) == repeatable_.end()) {
       throw std::invalid_argument(option + " is given twice (one would silently win over the other)");
     }
-    given_.push_back(option);
   }
+  /// Every option given so far, once each, in the order given.
+  const std::vector<std::string>& options() const { return given_; }
 
  private:
   std::vector<std::string> repeatable_, given_;

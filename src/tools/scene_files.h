@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#pragma once
+// Scene files for a tool that runs the detector on them: every one read, and each rig tried on the detector, before
+// anything is rendered or timed, so that a bad one is named at once (not after the scenes before it).
+#include <exception>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "underwater_stereo/detection/detector.h"
+#include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene.h"
+
+namespace underwater_stereo {
+namespace tools {
+
+/// Why the detector with `config` refuses the rig (image size, baseline) of `scene`, named `named`; "" when it takes it.
+inline std::string rigProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named) {
+  try {
+    const Detector detector(config, sim::Renderer(scene).calibration());
+  } catch (const std::exception& e) {
+    return named + ": the detector refuses its rig: " + e.what();
+  }
+  return "";
+}
+
+/// The scene files at `paths` that can be read; each that cannot, or whose rig the detector with `config` refuses (not
+/// tried when `config` is null: the configuration could not be read), is added to `problems`.
+inline std::vector<std::pair<std::string, sim::Scene>> readSceneFiles(const std::vector<std::string>& paths,
+                                                                      const DetectorConfig* config,
+                                                                      std::vector<std::string>& problems) {
+  std::vector<std::pair<std::string, sim::Scene>> scenes;
+  for (const std::string& path : paths) {
+    try {
+      scenes.emplace_back(path, sim::loadSceneFile(path));
+    } catch (const std::exception& e) {
+      problems.push_back(e.what());
+      continue;
+    }
+    if (config == nullptr) continue;
+    if (std::string problem = rigProblem(*config, scenes.back().second, path); !problem.empty()) {
+      problems.push_back(std::move(problem));
+    }
+  }
+  return scenes;
+}
+
+}  // namespace tools
+}  // namespace underwater_stereo
