@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <random>
+#include <sstream>
 
 #include "config_test_helpers.h"
 #include "underwater_stereo/detection/colour_learning.h"
@@ -109,6 +110,55 @@ TEST(ColourLearning, RecoversAKnownColourModel) {
   EXPECT_GE(score_.found[1], 0.9 * score_.labelled[1]) << "green";
   EXPECT_EQ(score_.confusion[0][1] + score_.confusion[1][0], 0) << "red and green confused";
   EXPECT_LE(score_.false_detections, 0.2 * score_.frames) << "white buoys or water reported";
+}
+
+// With boosted trees the model's confidence is their object score (0.5 where their votes even out) while the forest
+// names the colour; they are stored in the model file and read back with it, and corrupt trees are refused naming it.
+TEST(ColourLearning, BoostedTreesDecideAndTravelWithTheModelFile) {
+  std::vector<LabelledFrame> train, test;
+  for (unsigned s = 0; s < 40; ++s) train.push_back(syntheticFrame(s));
+  for (unsigned s = 1000; s < 1020; ++s) test.push_back(syntheticFrame(s));
+  LearningOptions o = options();
+  o.training.boosted = {100, 3};
+  const ColourModel model = learnt(train, o);
+  ASSERT_TRUE(model.hasObjectTrees());
+  DetectorConfig base = baseConfig();
+  base.learned.min_confidence = 0.5;
+  const LearningScore score_ =
+      score(Detector(learnedConfig(base, "in memory", std::make_shared<const ColourModel>(model), o)), test, o);
+  SCOPED_TRACE("seeds 1000-1019");
+  EXPECT_GE(score_.found[0], 0.9 * score_.labelled[0]) << "red";
+  EXPECT_GE(score_.found[1], 0.9 * score_.labelled[1]) << "green";
+  EXPECT_EQ(score_.confusion[0][1] + score_.confusion[1][0], 0) << "red and green confused";
+  EXPECT_LE(score_.false_detections, 0.2 * score_.frames) << "white buoys or water reported";
+
+  const std::string path = ::testing::TempDir() + "boosted.colour_model.yml";
+  model.save(path);
+  const ColourModel read = ColourModel::load(path);
+  ASSERT_TRUE(read.hasObjectTrees());
+  cv::Mat probe(16, static_cast<int>(blobFeatureNames().size()), CV_32F);
+  cv::randu(probe, -1.0, 2.0);
+  const std::vector<ColourVerdict> before = model.classify(probe), after = read.classify(probe);
+  for (int r = 0; r < probe.rows; ++r) {
+    EXPECT_EQ(after[r].colour, before[r].colour);
+    EXPECT_DOUBLE_EQ(after[r].confidence, before[r].confidence);
+    if (before[r].colour >= 0) {
+      EXPECT_DOUBLE_EQ(before[r].confidence, model.objectScore(probe.ptr<float>(r)));
+    }
+  }
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  std::string corrupt = text.str();
+  const std::size_t vote = corrupt.find("value:", corrupt.find("object:"));
+  ASSERT_NE(vote, std::string::npos);
+  corrupt.replace(vote, corrupt.find_first_of(",\n", vote) - vote, "value: 7.5");
+  std::ofstream(path) << corrupt;
+  const std::string refused = messageOf([&] { ColourModel::load(path); });
+  EXPECT_NE(refused.find("colour model " + path + ": boosted trees: a node votes 7.5"), std::string::npos) << refused;
+
+  o.training.boosted.depth = 0;
+  const std::string bad = messageOf([&] { learnt(train, o); });
+  EXPECT_NE(bad.find("boosted_depth must be in [1, 20] (or 0: none)"), std::string::npos) << bad;
 }
 
 TEST(ColourLearning, ScoresAtSeveralThresholdsAsDetectorsSetToEach) {

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <utility>
 #include <string>
 
 #include "config_test_helpers.h"
@@ -21,10 +22,10 @@ namespace {
 
 DetectorConfig defaultConfig() { return loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"); }
 
-/// A check over `colours` that names every row like `rows` `label` (-1: background), and
-/// learns each other class from rows far from them (a model must have seen every class). Every row is given
-/// kCopies times: boosted trees split only where 10 samples reach a node.
-std::shared_ptr<const DetectionCheck> checkNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
+/// Samples over `colours` that name every row like `rows` `label` (-1: background), with each other class learnt
+/// from rows far from them (a model must have seen every class). Every row is given kCopies times: boosted trees
+/// split only where 10 samples reach a node.
+std::pair<cv::Mat, std::vector<int>> samplesNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
   constexpr int kCopies = 10;
   cv::Mat samples;
   std::vector<int> labels;
@@ -37,7 +38,13 @@ std::shared_ptr<const DetectionCheck> checkNaming(const cv::Mat& rows, int label
       labels.push_back(k);
     }
   }
-  return std::make_shared<const DetectionCheck>(DetectionCheck::train(samples, labels, colours, CheckTraining{}));
+  return {samples, labels};
+}
+
+/// A check over `colours` learnt from samplesNaming(rows, label, colours).
+std::shared_ptr<const DetectionCheck> checkNaming(const cv::Mat& rows, int label, const std::vector<std::string>& colours) {
+  const auto [samples, labels] = samplesNaming(rows, label, colours);
+  return std::make_shared<const DetectionCheck>(DetectionCheck::train(samples, labels, colours, checkTraining()));
 }
 
 /// The 640x400 pool of two buoys (red, green), rendered as BGR.
@@ -172,7 +179,11 @@ TEST(DetectionCheck, TheConfigurationLoadsItOverItsColourModelOnly) {
   const cv::Mat row(1, static_cast<int>(checkFeatureNames(colours).size()), CV_32F, cv::Scalar(0));
   checkNaming(row, -1, colours)->save(::testing::TempDir() + "check.yml.gz");
   // A check of an earlier build (a forest alone) is refused: it has no boosted trees.
-  checkNaming(row, -1, colours)->colours().save(::testing::TempDir() + "forest_check.yml.gz");
+  ColourModelTraining without_boosted = checkTraining();
+  without_boosted.boosted.trees = 0;
+  const auto [samples, labels] = samplesNaming(row, -1, colours);
+  ColourModel::train(samples, labels, colours, without_boosted, checkFeatureNames(colours))
+      .save(::testing::TempDir() + "forest_check.yml.gz");
   const std::string head = "colours: [{name: red}, {name: orange}, {name: yellow}, {name: green}]\n"
                            "candidates: {source: learned}\n";
   const DetectorConfig ok = parseDetectorConfig(

@@ -15,6 +15,14 @@ constexpr int kBackground = 0;
 
 }  // namespace
 
+std::vector<std::string> ColourModelTraining::validate() const {
+  std::vector<std::string> p = ForestTraining::validate();
+  if (boosted.trees != 0) {
+    for (std::string& b : boosted.validate()) p.push_back(b + " (or 0: none)");
+  }
+  return p;
+}
+
 std::vector<int> countColourLabels(const cv::Mat& samples, const std::vector<int>& labels,
                                    const std::vector<std::string>& colours, const std::vector<std::string>& features,
                                    const std::string& who) {
@@ -55,6 +63,17 @@ ColourModel ColourModel::train(const cv::Mat& samples, const std::vector<int>& l
   m.feature_count_ = width;
   m.forest_ = trainForest(samples, responses, priors, options);
   m.votes_ = ForestVotes(*m.forest_, m.feature_count_);
+  if (options.boosted.trees > 0) m.object_ = ObjectTrees::train(samples, labels, options.boosted, options.seed);
+  return m;
+}
+
+ColourModel ColourModel::withObjectTrees(const cv::Mat& samples, const std::vector<int>& labels,
+                                         const BoostedTraining& options, int seed) const {
+  if (empty()) throw std::invalid_argument("ColourModel::withObjectTrees: empty model");
+  countColourLabels(samples, labels, colours_, features_, "ColourModel::withObjectTrees");
+  ColourModel m = *this;
+  // A model of an earlier build reads only its first features: so do its trees.
+  m.object_ = ObjectTrees::train(samples.colRange(0, feature_count_).clone(), labels, options, seed);
   return m;
 }
 
@@ -79,6 +98,7 @@ ColourModel ColourModel::read(const cv::FileStorage& fs, const std::vector<std::
     m.feature_count_ = static_cast<int>(features.size());
     if (m.colours_.empty()) throw std::invalid_argument(named + ": names no colours");
     m.forest_ = readStoredForest(fs["forest"], m.feature_count_, named + ": ");
+    if (!fs["object"].empty()) m.object_ = ObjectTrees::read(fs["object"], m.feature_count_, named);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(named + ": invalid (" + e.msg + ")");
   }
@@ -103,6 +123,16 @@ void ColourModel::write(cv::FileStorage& fs) const {
   fs << "forest" << "{";
   forest_->write(fs);
   fs << "}";
+  if (!object_.empty()) {
+    fs << "object" << "{";
+    object_.write(fs);
+    fs << "}";
+  }
+}
+
+double ColourModel::objectScore(const float* row) const {
+  if (object_.empty()) throw std::invalid_argument("ColourModel::objectScore: no boosted trees");
+  return object_.score(row);
 }
 
 std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const {
@@ -112,15 +142,15 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
     throw std::invalid_argument("ColourModel::classify: need CV_32F rows of " + std::to_string(features_.size()) +
                                 " features, got " + std::to_string(features.cols) + " columns");
   }
-  // The best colour is reported with its share even when background has more votes: the caller's threshold
-  // (colour_model.min_confidence) decides.
+  // The best colour is reported with its share (or the boosted trees' score) even when background has more votes: the
+  // caller's threshold (colour_model.min_confidence) decides.
   std::vector<int> counts(votes_.labels().size());
   std::vector<ColourVerdict> verdicts(features.rows);
   for (int i = 0; i < features.rows; ++i) {
     votes_.vote(features.ptr<float>(i), counts.data());
     const auto [label, share] = votes_.best(counts.data(), [](int l) { return l != kBackground; });
     verdicts[i].colour = label < 0 ? -1 : label - 1;
-    verdicts[i].confidence = share;
+    verdicts[i].confidence = !object_.empty() && label >= 0 ? object_.score(features.ptr<float>(i)) : share;
     int total = 0;
     for (int n : counts) total += n;
     verdicts[i].shares.assign(colours_.size() + 1, 0.f);

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <stdexcept>
 
 #include "underwater_stereo/detection/blob_proposals.h"
@@ -14,9 +13,6 @@ namespace {
 
 /// Sizes under a millimetre are taken as one (the logarithm stays finite).
 constexpr double kLeastSizeM = 1e-3;
-
-/// The boosted trees' class of an object (background: 0).
-constexpr int kObject = 1;
 
 }  // namespace
 
@@ -42,17 +38,11 @@ std::vector<float> checkFeatures(const std::vector<float>& colour_features, cons
   return f;
 }
 
-std::vector<std::string> CheckTraining::validate() const {
-  std::vector<std::string> p = colours.validate();
-  if (boosted_trees < 1 || boosted_trees > 5000) p.push_back("boosted_trees must be in [1, 5000]");
-  if (boosted_depth < 1 || boosted_depth > 20) p.push_back("boosted_depth must be in [1, 20]");
-  return p;
-}
-
 DetectionCheck DetectionCheck::train(const cv::Mat& samples, const std::vector<int>& labels,
-                                     const std::vector<std::string>& colours, const CheckTraining& options,
+                                     const std::vector<std::string>& colours, const ColourModelTraining& options,
                                      const ColourModel* naming) {
-  const auto problems = options.validate();
+  std::vector<std::string> problems = options.validate();
+  if (options.boosted.trees < 1) problems.emplace_back("a check needs boosted trees");
   if (!problems.empty()) throw std::invalid_argument("DetectionCheck::train: " + problems.front());
   if (naming != nullptr && (naming->empty() || naming->colours() != colours)) {
     throw std::invalid_argument("DetectionCheck::train: the forest that is to name colours names other colours");
@@ -62,16 +52,9 @@ DetectionCheck DetectionCheck::train(const cv::Mat& samples, const std::vector<i
   const std::vector<std::string> features = checkFeatureNames(colours);
   countColourLabels(samples, labels, colours, features, "DetectionCheck::train");
   DetectionCheck c;
-  c.colours_ = naming != nullptr ? *naming : ColourModel::train(samples, labels, colours, options.colours, features);
+  c.colours_ = naming != nullptr ? naming->withObjectTrees(samples, labels, options.boosted, options.seed)
+                                 : ColourModel::train(samples, labels, colours, options, features);
   c.width_ = samples.cols;
-  cv::Mat responses(samples.rows, 1, CV_32SC1);
-  for (int i = 0; i < samples.rows; ++i) responses.at<int>(i) = labels[i] >= 0 ? kObject : 0;
-  cv::theRNG().state = static_cast<std::uint64_t>(options.colours.seed);
-  c.object_ = cv::ml::Boost::create();
-  c.object_->setBoostType(cv::ml::Boost::GENTLE);
-  c.object_->setWeakCount(options.boosted_trees);
-  c.object_->setMaxDepth(options.boosted_depth);  // OpenCV's other defaults: trimming at 0.95, 10 samples a split
-  c.object_->train(cv::ml::TrainData::create(samples, cv::ml::ROW_SAMPLE, responses));
   return c;
 }
 
@@ -82,41 +65,15 @@ DetectionCheck DetectionCheck::load(const std::string& path, const std::vector<s
   DetectionCheck c;
   c.colours_ = ColourModel::read(fs, names, named);
   c.width_ = static_cast<int>(names.size());
-  try {
-    if (fs["object"].empty()) {
-      throw std::invalid_argument(named + ": no boosted trees (object): a check of an earlier build, learn it again");
-    }
-    checkStoredTrees(fs["object"], c.width_, named + ": ", "boosted trees");
-    c.object_ = cv::ml::Boost::create();
-    c.object_->read(fs["object"]);
-  } catch (const cv::Exception& e) {
-    throw std::invalid_argument(named + ": invalid boosted trees (" + e.msg + ")");
-  }
-  if (!c.object_->isTrained() || !c.object_->isClassifier() || c.object_->getVarCount() != c.width_ ||
-      c.object_->getRoots().empty()) {
-    throw std::invalid_argument(named + ": the boosted trees are no trained classifier of " + std::to_string(c.width_) +
-                                " features");
-  }
-  try {
-    checkTreeLinks(*c.object_, c.width_);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(named + ": boosted trees: " + e.what());
-  }
-  for (const cv::ml::DTrees::Node& n : c.object_->getNodes()) {  // gentle AdaBoost's votes lie within [-1, 1]
-    if (!(std::abs(n.value) <= 1.0)) {
-      throw std::invalid_argument(named + ": boosted trees: a node votes " + std::to_string(n.value) + ", outside [-1, 1]");
-    }
+  if (!c.colours_.hasObjectTrees()) {
+    throw std::invalid_argument(named + ": no boosted trees (object): a check of an earlier build, learn it again");
   }
   return c;
 }
 
 void DetectionCheck::save(const std::string& path) const {
   if (empty()) throw std::runtime_error("DetectionCheck::save: empty check");
-  cv::FileStorage fs = createModelFile(path, "check model " + path);
-  colours_.write(fs);
-  fs << "object" << "{";
-  object_->write(fs);
-  fs << "}";
+  colours_.save(path, "check model");
 }
 
 void DetectionCheck::requireFeatures(const std::vector<float>& features, const char* caller) const {
@@ -129,10 +86,7 @@ void DetectionCheck::requireFeatures(const std::vector<float>& features, const c
 
 double DetectionCheck::objectScore(const std::vector<float>& features) const {
   requireFeatures(features, "DetectionCheck::objectScore");
-  const cv::Mat row(1, width_, CV_32F, const_cast<float*>(features.data()));
-  const double sum = object_->predict(row, cv::noArray(), cv::ml::DTrees::PREDICT_SUM | cv::ml::StatModel::RAW_OUTPUT);
-  const double trees = static_cast<double>(object_->getRoots().size());
-  return std::clamp(0.5 + 0.5 * sum / trees, 0.0, 1.0);
+  return colours_.objectScore(features.data());
 }
 
 ColourVerdict DetectionCheck::colourVerdict(const std::vector<float>& features) const {

@@ -221,7 +221,7 @@ std::string colourAfterCheck(const ColourVerdict& v, const ColourModel& check, c
   const auto own = std::find(colours.begin(), colours.end(), named);
   const double own_share = own == colours.end() ? 0.0 : v.shares[1 + (own - colours.begin())];  // background first
   const bool designated = findColourClass(classes, colours[v.colour]) != nullptr;
-  return designated && v.confidence - own_share > margin ? colours[v.colour] : named;
+  return designated && v.shares[1 + v.colour] - own_share > margin ? colours[v.colour] : named;
 }
 
 /// `frame` scaled for the search; sets `out`'s quality, scale and settings (`search`: those scaled for

@@ -143,9 +143,9 @@ int main(int argc, char** argv) {
     Samples samples;
     samples.rows = cv::Mat(0, static_cast<int>(names.size()), CV_32F);
     for (const std::string& path : inputs) addRecords(path, config_path, colours, names.size(), samples);
-    // CheckTraining's defaults: chosen on the records of seeds 86000-87999 and validation seeds 60000-60299.
+    // checkTraining()'s settings: chosen on the records of seeds 86000-87999 and validation seeds 60000-60299.
     tools::trainOnRecords(inputs, samples.labels.size(), "detections", [&] {
-      return DetectionCheck::train(samples.rows, samples.labels, colours, CheckTraining{}, naming ? &*naming : nullptr);
+      return DetectionCheck::train(samples.rows, samples.labels, colours, checkTraining(), naming ? &*naming : nullptr);
     }).save(out);
     std::map<int, int> counts;
     for (int l : samples.labels) ++counts[l];

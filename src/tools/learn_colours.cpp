@@ -45,6 +45,9 @@ const char* kUsage =
     "  --augment N         also learn from N copies of each frame seen through other water (default 2)\n"
     "  --zoom N            and from N copies seen nearer (1.3-2x, around a labelled object; default 0)\n"
     "  --trees N, --max-depth N, --balance X, --min-confidence X   model settings (100, 10, 0.6, base's)\n"
+    "  --boosted-trees N, --boosted-depth N   boosted trees that decide object or background in place of the forest's\n"
+    "                      votes (the forest still names the colour; their score is 0.5 where their votes even out,\n"
+    "                      a natural --min-confidence); default 0 (none), depth 6\n"
     "  --sweep a,b,...     also cross-validated recall and false detections at these min_confidence values\n"
     "                      (one table; from the same folds, to choose min_confidence)\n"
     "  --choose-thresholds a,b,...   a min_confidence per colour from these values, chosen by cross-validation\n"
@@ -107,6 +110,8 @@ Options parse(int argc, char** argv) {
     else if (arg == "--trees") o.learning.training.trees = whole(1, 2000);
     else if (arg == "--max-depth") o.learning.training.max_depth = whole(1, 30);
     else if (arg == "--balance") o.learning.training.balance = number(0, 1);
+    else if (arg == "--boosted-trees") o.learning.training.boosted.trees = whole(0, 5000);
+    else if (arg == "--boosted-depth") o.learning.training.boosted.depth = whole(1, 20);
     else if (arg == "--min-confidence") o.min_confidence = number(0.01, 1);
     else if (arg == "--sweep") {
       for (const std::string& item : split(v)) o.sweep.push_back(tools::numberIn(item, 0.01, 1, "--sweep " + v));

@@ -12,11 +12,11 @@
 /// regions it passed, each with its 3D measurements, and is learnt (learn_checks) from the detector's own
 /// detections of randomised scenes against their ground truth: the regions that reach it, labelled as the
 /// evaluation counts them (the first detection of an object is its colour; a distractor, the background or a
-/// second detection of one object is background). Whether it is an object at all is decided by boosted trees
-/// (OpenCV's cv::ml::Boost, gentle AdaBoost, object against background); the colour it names comes from random trees
-/// over the same features (a ColourModel over checkFeatureNames(): per-colour votes). Boosted trees were chosen over
-/// the forest for the decision by learning both from the same records and judging them on 2000 other pairs: more
-/// objects kept at every rate of false detections (docs/accuracy.md, "The check decides by boosted trees").
+/// second detection of one object is background). It is a colour model over checkFeatureNames() with boosted trees
+/// (object_trees.h): they decide whether it is an object at all, its forest's per-colour votes name the colour. Boosted
+/// trees were chosen over the forest for the decision by learning both from the same records and judging them on 2000
+/// other pairs: more objects kept at every rate of false detections (docs/accuracy.md, "The check decides by boosted
+/// trees").
 
 #include <opencv2/core.hpp>
 #include <opencv2/ml.hpp>
@@ -47,15 +47,9 @@ std::vector<std::string> checkFeatureNames(const std::vector<std::string>& colou
 /// @throw std::invalid_argument when colour_features is empty (the candidate was not found by a colour model).
 std::vector<float> checkFeatures(const std::vector<float>& colour_features, const MeasuredForCheck& measured);
 
-/// How learn_checks learns a check.
-struct CheckTraining {
-  ColourModelTraining colours{100, 12, 0.0, 1};  ///< the forest that names colours: 100 trees of depth 12, unweighted
-  int boosted_trees = 400;                       ///< the boosted trees that decide object or background (400: as
-                                                 ///< good as 600 offline, and the check file stays under 2 MiB)
-  int boosted_depth = 6;
-
-  std::vector<std::string> validate() const;
-};
+/// How learn_checks learns a check: the forest that names colours, 100 trees of depth 12, unweighted; the boosted trees
+/// that decide object or background, 400 of depth 6 (as good as 600 offline, and the check file stays under 2 MiB).
+inline ColourModelTraining checkTraining() { return ColourModelTraining{{100, 12, 0.0, 1}, {400, 6}}; }
 
 class DetectionCheck {
  public:
@@ -63,9 +57,10 @@ class DetectionCheck {
   /// Learns from `samples` (CV_32F, one row of checkFeatureNames(colours) per detection) with `labels` (-1:
   /// background, k: an object of colours[k]); with `naming` (a forest over the same colours and features, e.g. of
   /// an earlier check) that forest names colours and only the boosted trees are learnt.
-  /// @throw std::invalid_argument as ColourModel::train, on bad options, or a `naming` of other colours.
+  /// @throw std::invalid_argument as ColourModel::train, on bad options (no boosted trees among them), or a `naming`
+  /// of other colours.
   static DetectionCheck train(const cv::Mat& samples, const std::vector<int>& labels, const std::vector<std::string>& colours,
-                              const CheckTraining& options, const ColourModel* naming = nullptr);
+                              const ColourModelTraining& options, const ColourModel* naming = nullptr);
   /// The check in the file `path`, learnt over a colour model of `colours`.
   /// @throw std::invalid_argument naming the file when it cannot be read, is not a check of these colours' features,
   /// or holds no sound boosted trees (a check of an earlier build: learn it again).
@@ -73,14 +68,14 @@ class DetectionCheck {
   /// @throw std::runtime_error naming the file when it cannot be written.
   void save(const std::string& path) const;
 
-  bool empty() const { return object_.empty(); }
-  /// The forest that names colours.
+  bool empty() const { return !colours_.hasObjectTrees(); }
+  /// The forest that names colours, with the boosted trees.
   const ColourModel& colours() const { return colours_; }
   /// How sure it is that a detection with `features` (checkFeatures) is an object, 0-1, above 0.5 an object: one half
   /// plus half the boosted trees' mean vote (each votes within [-1, 1]).
   /// @throw std::invalid_argument when features is empty or of another width, or the check is empty.
   double objectScore(const std::vector<float>& features) const;
-  /// The forest's verdict on a detection with `features` (shares: background first).
+  /// The forest's verdict on a detection with `features` (shares: background first; confidence: objectScore).
   /// @throw std::invalid_argument as objectScore.
   ColourVerdict colourVerdict(const std::vector<float>& features) const;
 
@@ -88,9 +83,8 @@ class DetectionCheck {
   /// @throw std::invalid_argument naming `caller` when the check is empty or `features` is not one row of its width.
   void requireFeatures(const std::vector<float>& features, const char* caller) const;
 
-  ColourModel colours_;
-  cv::Ptr<cv::ml::Boost> object_;
-  int width_ = 0;  ///< features per detection
+  ColourModel colours_;  ///< with boosted trees
+  int width_ = 0;        ///< features per detection
 };
 
 }  // namespace underwater_stereo
