@@ -72,8 +72,7 @@ ColourModel ColourModel::withObjectTrees(const cv::Mat& samples, const std::vect
   if (empty()) throw std::invalid_argument("ColourModel::withObjectTrees: empty model");
   countColourLabels(samples, labels, colours_, features_, "ColourModel::withObjectTrees");
   ColourModel m = *this;
-  // A model of an earlier build reads only its first features: so do its trees.
-  m.object_ = ObjectTrees::train(samples.colRange(0, feature_count_).clone(), labels, options, seed);
+  m.object_ = ObjectTrees::train(samples, labels, options, seed);
   return m;
 }
 
@@ -98,7 +97,8 @@ ColourModel ColourModel::read(const cv::FileStorage& fs, const std::vector<std::
     m.feature_count_ = static_cast<int>(features.size());
     if (m.colours_.empty()) throw std::invalid_argument(named + ": names no colours");
     m.forest_ = readStoredForest(fs["forest"], m.feature_count_, named + ": ");
-    if (!fs["object"].empty()) m.object_ = ObjectTrees::read(fs["object"], m.feature_count_, named);
+    // The boosted trees read every feature of this build (a forest of an earlier build may read fewer).
+    if (!fs["object"].empty()) m.object_ = ObjectTrees::read(fs["object"], static_cast<int>(names.size()), named);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(named + ": invalid (" + e.msg + ")");
   }
@@ -150,6 +150,7 @@ std::vector<ColourVerdict> ColourModel::classify(const cv::Mat& features) const 
     votes_.vote(features.ptr<float>(i), counts.data());
     const auto [label, share] = votes_.best(counts.data(), [](int l) { return l != kBackground; });
     verdicts[i].colour = label < 0 ? -1 : label - 1;
+    verdicts[i].share = share;
     verdicts[i].confidence = !object_.empty() && label >= 0 ? object_.score(features.ptr<float>(i)) : share;
     int total = 0;
     for (int n : counts) total += n;

@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "underwater_stereo/detection/blob_proposals.h"
-#include "underwater_stereo/detection/forest_votes.h"
 
 namespace underwater_stereo {
 namespace {
@@ -41,8 +40,10 @@ std::vector<float> checkFeatures(const std::vector<float>& colour_features, cons
 DetectionCheck DetectionCheck::train(const cv::Mat& samples, const std::vector<int>& labels,
                                      const std::vector<std::string>& colours, const ColourModelTraining& options,
                                      const ColourModel* naming) {
-  std::vector<std::string> problems = options.validate();
-  if (options.boosted.trees < 1) problems.emplace_back("a check needs boosted trees");
+  if (options.boosted.trees < 1) {
+    throw std::invalid_argument("DetectionCheck::train: a check needs boosted trees (1 or more)");
+  }
+  const auto problems = options.validate();
   if (!problems.empty()) throw std::invalid_argument("DetectionCheck::train: " + problems.front());
   if (naming != nullptr && (naming->empty() || naming->colours() != colours)) {
     throw std::invalid_argument("DetectionCheck::train: the forest that is to name colours names other colours");

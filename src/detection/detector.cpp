@@ -221,7 +221,7 @@ std::string colourAfterCheck(const ColourVerdict& v, const ColourModel& check, c
   const auto own = std::find(colours.begin(), colours.end(), named);
   const double own_share = own == colours.end() ? 0.0 : v.shares[1 + (own - colours.begin())];  // background first
   const bool designated = findColourClass(classes, colours[v.colour]) != nullptr;
-  return designated && v.shares[1 + v.colour] - own_share > margin ? colours[v.colour] : named;
+  return designated && v.share - own_share > margin ? colours[v.colour] : named;
 }
 
 /// `frame` scaled for the search; sets `out`'s quality, scale and settings (`search`: those scaled for
@@ -408,7 +408,8 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     d.check_features = checkFeatures(c.colour_features, {d.range_m, fit.size.maxCoeff(), fit.size.minCoeff(),
                                                          static_cast<int>(d.shape), d.cut_by_border, d.fit_rmse_m, matched});
   }
-  // How sure the colour search is: its share of the votes, or with a check after stereo the check's object score
+  // How sure the colour search is: its confidence (the share of the votes, or its boosted trees' score), or with a
+  // check after stereo the check's object score
   // (which weighs those votes with what stereo measured). The check names the colour where it is clearly surer of another one
   // (colour_model.check_rename_margin; docs/accuracy.md "The check names colours").
   double colour_share = c.colour_fraction;

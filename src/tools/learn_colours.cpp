@@ -147,6 +147,11 @@ Options parse(int argc, char** argv) {
   if (!o.choose.empty() && o.min_confidence > 0) {
     throw std::invalid_argument("give --min-confidence or --choose-thresholds, not both");
   }
+  const auto& options = given.options();
+  if (o.learning.training.boosted.trees == 0 &&
+      std::find(options.begin(), options.end(), "--boosted-depth") != options.end()) {
+    throw std::invalid_argument("--boosted-depth needs --boosted-trees N (1 or more)");
+  }
   return o;
 }
 

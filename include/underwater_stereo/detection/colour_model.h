@@ -31,6 +31,7 @@ struct ColourVerdict {
   double confidence = 0.0;
   /// Share of the trees voting for each class: background first, then ColourModel::colours() in order.
   std::vector<float> shares;
+  double share = 0.0;  ///< the share of the forest's trees voting for that colour (0-1)
 };
 
 /// Training options of the colour model: its forest (the background is the reference class of `balance`; `seed` seeds

@@ -27,7 +27,8 @@ struct ColourClass {
   /// [m] an object of this colour measures at least / at most this across its largest side; 0 = no limit.
   double min_size_m = 0.0;
   double max_size_m = 0.0;
-  /// With a learnt colour model: share of trees that must vote for this colour; 0 = colour_model.min_confidence.
+  /// With a learnt colour model: its confidence needed for this colour (the share of trees voting for it, or its
+  /// boosted trees' score); 0 = colour_model.min_confidence.
   /// learn_colours chooses one per colour by cross-validation (a rare colour needs fewer votes).
   double min_confidence = 0.0;
 

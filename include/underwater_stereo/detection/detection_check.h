@@ -19,7 +19,6 @@
 /// trees").
 
 #include <opencv2/core.hpp>
-#include <opencv2/ml.hpp>
 
 #include <string>
 #include <vector>
@@ -75,7 +74,8 @@ class DetectionCheck {
   /// plus half the boosted trees' mean vote (each votes within [-1, 1]).
   /// @throw std::invalid_argument when features is empty or of another width, or the check is empty.
   double objectScore(const std::vector<float>& features) const;
-  /// The forest's verdict on a detection with `features` (shares: background first; confidence: objectScore).
+  /// The forest's verdict on a detection with `features` (shares: background first; confidence: objectScore where the
+  /// forest names a colour).
   /// @throw std::invalid_argument as objectScore.
   ColourVerdict colourVerdict(const std::vector<float>& features) const;
 

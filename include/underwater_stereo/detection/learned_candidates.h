@@ -21,8 +21,9 @@ namespace underwater_stereo {
 /// The `colour_model` section of the detector configuration (candidates.source: learned).
 struct LearnedColourConfig {
   std::string file;             ///< the model's file (learn_colours writes it), resolved against the config's folder
-  /// Share of trees that must vote for a colour (0.45: chosen for the default model on the validation seeds
-  /// 60000-60299, docs/accuracy.md; config/detector.yaml says the same).
+  /// Confidence the model must have in a colour: the share of trees voting for it, or with boosted trees their score
+  /// (0.45: chosen for the default model, a forest, on the validation seeds 60000-60299, docs/accuracy.md;
+  /// config/detector.yaml says the same).
   double min_confidence = 0.45;
   /// A proposal overlapping a more confident one by more than this share of the smaller box is the same object.
   double max_overlap = 0.3;
@@ -34,7 +35,8 @@ struct LearnedColourConfig {
   /// How sure the check must be that a detection is an object (any colour, not background) for it to be reported:
   /// DetectionCheck::objectScore, 0-1, 0.5 where the boosted trees' votes even out.
   double check_min_confidence = 0.5;
-  /// With a check, regions with this share of the colour model's votes go on to stereo and the check (in place of
+  /// With a check, regions with this confidence of the colour model (its share of the votes, or its boosted trees'
+  /// score) go on to stereo and the check (in place of
   /// min_confidence, which stays the decision where nothing is measured in 3D: detect2d, detect_files --image).
   double check_from_confidence = 0.2;
   /// With a check, a detection takes the check's colour when the check's share of votes for it exceeds its share for
@@ -98,8 +100,9 @@ LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& c
                                 int threads = 1);
 
 /// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
-/// colours, by name) and have its share of the votes (the class's min_confidence, else the model's; with
-/// `for_check`, config.check_from_confidence for every colour: the check after stereo decides). On `threads`
+/// colours, by name) and the model's confidence in it (ColourVerdict::confidence) must reach the class's
+/// min_confidence, else the model's (with `for_check`, config.check_from_confidence for every colour: the check after
+/// stereo decides). On `threads`
 /// threads (workOnThreads; the same result whatever the number).
 /// @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
