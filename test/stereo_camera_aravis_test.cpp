@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The StereoCameraNodelet on the real Aravis GigE path: this test runs two of Aravis' fake GigE Vision
 // cameras in its own process on 127.0.0.1 and 127.0.0.2 (created after the nodelet started, so it must wait
-// for them), checks the pairs, then takes the right camera away and brings it back, and loses packets.
+// for them), checks the pairs, then takes the right camera away and brings it back (first without its stream),
+// and loses packets.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -124,7 +125,17 @@ TEST(StereoCameraAravis, PairsFromTwoFakeGigECamerasSurviveALostCameraAndLostPac
   const ros::Time gone = ros::Time::now();
   ros::WallDuration(1.0).sleep();
   EXPECT_EQ(rx.pairsSince(gone + ros::Duration(0.5)), 0) << "pairs without a right camera";
+  // It comes back answering its control port but its stream lost (every packet dropped): not back yet, the
+  // nodelet retries with back-off and the outage stays one.
   right = std::make_unique<FakeCamera>("127.0.0.2", "FAKE-RIGHT");
+  right->loseGvspPackets(1.0);
+  EXPECT_TRUE(waitFor(
+      [&] { return rx.diagnostic("right camera").message.find("opened, but no frame") != std::string::npos; },
+      10.0))
+      << "a camera without a stream is not shown: " << rx.diagnostic("right camera").message;
+  ros::WallDuration(2.0).sleep();
+  EXPECT_EQ(rx.pairsSince(gone + ros::Duration(0.5)), 0) << "pairs without the right camera's stream";
+  right->loseGvspPackets(0.0);
   const ros::Time back = ros::Time::now();
   EXPECT_TRUE(waitFor([&] { return rx.pairsSince(back) >= 3; }, 10.0)) << "pairs did not resume within 10 s";
   EXPECT_TRUE(waitFor([&] { return value(rx.diagnostic("right camera"), "outages") == "1"; }, 3.0))

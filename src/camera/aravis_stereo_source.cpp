@@ -254,7 +254,6 @@ void AravisStereoSource::runCamera(int s) {
       backoff = std::min(backoff * 2, config_.max_backoff_s);
       continue;
     }
-    backoff = 0.25;
     {
       std::lock_guard<std::mutex> lock(side.mutex);
       side.status.description = camera->description();
@@ -278,6 +277,9 @@ void AravisStereoSource::runCamera(int s) {
     auto statistics_due = last_frame;
     std::string lost_reason;
     bool reopen = false;
+    // A camera that opens but never sends a frame (its stream not yet up after a power cycle, GVSP blocked) has
+    // not come back: the outage goes on, counted once, and the next attempt waits as after a failed open.
+    bool streamed = false;
     // Software sync: each camera's thread fires its TriggerSoftware on the same schedule (TriggerSchedule: ticks
     // of the wall clock), so a camera that hangs or vanishes never delays the other's trigger.
     TriggerSchedule schedule(side.in_use.rate_hz);
@@ -313,6 +315,10 @@ void AravisStereoSource::runCamera(int s) {
       CameraFrame frame;
       if (camera->next(frame, std::min(wait_ms, 100))) {
         last_frame = std::chrono::steady_clock::now();
+        if (!streamed) {
+          streamed = true;
+          backoff = 0.25;
+        }
         std::int64_t capture_ns = 0;
         bool ptp = false;
         {
@@ -365,15 +371,19 @@ void AravisStereoSource::runCamera(int s) {
       }
       if (!lost_reason.empty()) break;
     }
+    if (!lost_reason.empty() && !streamed) lost_reason = "opened, but " + lost_reason;
     {
       std::lock_guard<std::mutex> lock(side.mutex);
       if (!lost_reason.empty()) {
-        ++side.status.outages;
+        if (streamed) ++side.status.outages;
         side.status.last_error = lost_reason;
-        side.status.state = CameraState::kReconnecting;
+        side.status.state = side.status.outages > 0 ? CameraState::kReconnecting : CameraState::kOpening;
       }
     }
-    if (!lost_reason.empty()) log_(true, name + " camera " + camera->description() + ": " + lost_reason + "; reopening");
+    if (!lost_reason.empty()) {
+      log_(true, name + " camera " + camera->description() + ": " + lost_reason +
+                     (streamed ? "; reopening" : "; retrying in " + std::to_string(backoff) + " s"));
+    }
     if (reopen) log_(false, name + " camera: exposure_sync changed to or from independent; reopening");
     try {
       camera->stop();
@@ -381,6 +391,10 @@ void AravisStereoSource::runCamera(int s) {
       // The camera is gone; closing is all that is left.
     }
     camera.reset();
+    if (!lost_reason.empty() && !streamed) {
+      sleepFor(backoff);
+      backoff = std::min(backoff * 2, config_.max_backoff_s);
+    }
   }
 }
 

@@ -70,7 +70,7 @@ struct CameraStatus {
   std::string last_error;
   std::uint64_t frames = 0;         ///< complete frames received
   std::uint64_t missed_frames = 0;  ///< from frame-id gaps
-  std::uint64_t outages = 0;        ///< times the camera was lost and reopened
+  std::uint64_t outages = 0;        ///< times a streaming camera was lost (reopened without a frame: the same one)
   std::vector<std::string> unsupported;  ///< AravisCamera::unsupported() of the open camera
   std::string ptp = "off";          ///< off; its port state (Master, Slave, Listening, ...); or why it is not used
   bool ptp_settled = false;         ///< Master or Slave: its timestamps are PTP time
