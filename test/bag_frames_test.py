@@ -199,6 +199,8 @@ class BagFramesTest(unittest.TestCase):
                               ([bag, out, "--every"], "--every needs a value"),
                               ([bag, out, "--topic"], "--topic needs a value"),
                               ([bag, out, "--frobnicate"], "unknown option '--frobnicate'"),
+                              ([bag, out, "--every", "2", "--every=5"], "--every is given twice"),
+                              ([bag, out, "--topic", "/a", "--topic", "/b"], "--topic is given twice"),
                               ([bag], "needs BAG and DIR, got 1 argument(s)")]:
             status, _, stderr = self.run_tool(*args)
             self.assertEqual(status, 2, args)
