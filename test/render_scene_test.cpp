@@ -120,3 +120,21 @@ TEST(RenderScene, LumaSetsTheExposureOfTheSampledScenes) {
   EXPECT_NEAR(mean_luma("180,182"), 181, 8);
   fs::remove_all(out);
 }
+
+// A second render into the same --png-dir holds its own frames only: none of a longer earlier render is left
+// behind to be read as this scene's (other files in the directory stay).
+TEST(RenderScene, PngDirHoldsThisRendersFramesOnly) {
+  const fs::path out = fs::temp_directory_path() / ("render_scene_png_" + std::to_string(::getpid()));
+  const std::string scene = " --scene " UWS_SOURCE_DIR "/test/scenes/small_pool.yaml --png-dir " + out.string();
+  ASSERT_EQ(run("--frames 3" + scene), 0);
+  EXPECT_TRUE(fs::exists(out / "left_0002.png"));
+  std::ofstream(out / "notes.txt") << "mine\n";
+  ASSERT_EQ(run("--frames 1" + scene), 0);
+  EXPECT_TRUE(fs::exists(out / "left_0000.png"));
+  EXPECT_TRUE(fs::exists(out / "right_0000.png"));
+  for (const char* stale : {"left_0001.png", "right_0001.png", "left_0002.png", "right_0002.png"}) {
+    EXPECT_FALSE(fs::exists(out / stale)) << stale;
+  }
+  EXPECT_EQ(readText(out / "notes.txt"), "mine\n");
+  fs::remove_all(out);
+}

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -38,7 +39,8 @@ const char* kUsage =
     "  Renders frames 0..N-1 (scene time k/HZ) of SCENE.yaml.\n"
     "  --bag      writes <ns>/left/image_raw, <ns>/left/camera_info, <ns>/right/..., <ns>/ground_truth\n"
     "  --png-dir  writes left_NNNN.png / right_NNNN.png (demosaiced BGR), left.yaml / right.yaml\n"
-    "             (camera_calibration format) and ground_truth.yaml\n"
+    "             (camera_calibration format) and ground_truth.yaml; frame images of an earlier render there\n"
+    "             are removed first\n"
     "  --random   renders the scenes sampled from seeds S..S+N-1 (default S = 1000) and writes, per seed (id = the\n"
     "             seed, 6 digits), DIR/images/<id>.png (left, demosaiced BGR), DIR/annotations/<id>.xml (Pascal\n"
     "             VOC: one <object> per visible red/orange/yellow/green object, <name> = its colour; <difficult>\n"
@@ -151,6 +153,20 @@ YAML::Node groundTruthYaml(const underwater_stereo::sim::GroundTruthObject& g) {
   return n;
 }
 
+/// Removes the frame images an earlier render left in `dir` (left_NNNN.png / right_NNNN.png: this tool's names,
+/// nothing else), so that the directory holds this render's frames only; returns how many it removed.
+int removeEarlierFrames(const std::string& dir) {
+  static const std::regex kFrame("(left|right)_[0-9]{4}\\.png");
+  int removed = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), kFrame)) {
+      std::filesystem::remove(entry.path());
+      ++removed;
+    }
+  }
+  return removed;
+}
+
 /// Training data for a colour learner from the sampled scenes of seeds opt.seed .. opt.seed + opt.random - 1.
 void writeTrainingData(const Options& opt) {
   using namespace underwater_stereo;
@@ -208,6 +224,8 @@ int main(int argc, char** argv) {
     YAML::Node truth_frames;
     if (!opt.png_dir.empty()) {
       std::filesystem::create_directories(opt.png_dir);
+      const int removed = removeEarlierFrames(opt.png_dir);
+      if (removed > 0) std::cout << "removed " << removed << " frame image(s) of an earlier render from " << opt.png_dir << "\n";
       const std::string base = opt.png_dir + "/";
       sensor_msgs::CameraInfo left = ros_glue::toCameraInfo(calib.left), right = ros_glue::toCameraInfo(calib.right);
       if (!camera_calibration_parsers::writeCalibration(base + "left.yaml", "left", left) ||
@@ -261,7 +279,9 @@ int main(int argc, char** argv) {
       std::cout << std::endl;
     }
     if (!opt.png_dir.empty()) {
-      std::ofstream(opt.png_dir + "/ground_truth.yaml") << truth_frames << "\n";
+      std::ofstream truth(opt.png_dir + "/ground_truth.yaml");
+      truth << truth_frames << "\n";
+      if (!truth.flush()) throw std::runtime_error("cannot write ground_truth.yaml into " + opt.png_dir);
     }
   } catch (const std::exception& e) {
     std::cerr << "render_scene: " << e.what() << "\n";
