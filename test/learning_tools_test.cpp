@@ -83,7 +83,7 @@ TEST(LearnColours, AGreyFrameIsRefusedNamingIt) {
 }
 
 // learn_colours refuses, before learning, what would be learnt wrongly or not at all: two images of one frame, an
-// annotation without its image, held-out detections asked for without folds, a fractional fold count.
+// annotation without its image, one frame twice (a copy in another folder), held-out detections asked for without folds, a fractional fold count.
 TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
   const fs::path dir = fs::temp_directory_path() / ("learn_colours_frames_" + std::to_string(::getpid()));
   fs::create_directories(dir / "images");
@@ -102,6 +102,17 @@ TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
   const std::string log = readText(dir / "learn.log");
   EXPECT_NE(log.find("frame.png and frame.jpg share the annotation frame.xml"), std::string::npos) << log;
   EXPECT_NE(log.find("annotations/lost.xml: no image of that name"), std::string::npos) << log;
+  // The same frame again, under another name in a second folder: it would be learnt twice.
+  fs::create_directories(dir / "more_images");
+  fs::create_directories(dir / "more_annotations");
+  fs::copy_file(dir / "images/frame.jpg", dir / "more_images/copy.jpg");
+  std::ofstream(dir / "more_annotations/copy.xml") << label;
+  const std::string twice = learn + " --images " + (dir / "more_images").string() + " --annotations " +
+                            (dir / "more_annotations").string();
+  EXPECT_EQ(runTool(twice, dir / "learn.log"), 1);
+  EXPECT_NE(readText(dir / "learn.log").find("more_images/copy.jpg is the same frame as " + (dir / "images/frame.jpg").string()),
+            std::string::npos)
+      << readText(dir / "learn.log");
   EXPECT_EQ(runTool(learn + " --folds 1 --detections-out " + (dir / "d.json").string(), dir / "learn.log"), 2);
   EXPECT_NE(readText(dir / "learn.log").find("--detections-out needs cross-validation"), std::string::npos);
   // An output over a file learnt from (a label here), or two outputs in one file: refused before anything is read.

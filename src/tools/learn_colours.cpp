@@ -15,6 +15,8 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -185,6 +187,28 @@ std::vector<std::string> annotationsIn(const std::string& dir) {
   return out;
 }
 
+/// Adds a problem for every frame whose pixels are another's (a copy under another name or in another --images
+/// folder): it would be learnt twice, and judged by folds that learnt it.
+void refuseRepeatedFrames(const std::vector<LabelledFrame>& frames, std::vector<std::string>& problems) {
+  std::unordered_multimap<std::size_t, std::size_t> by_hash;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const cv::Mat& image = frames[i].image;
+    const cv::Mat pixels = image.isContinuous() ? image : image.clone();
+    const std::size_t hash = std::hash<std::string_view>()(
+        std::string_view(reinterpret_cast<const char*>(pixels.data), pixels.total() * pixels.elemSize()));
+    const auto [first, last] = by_hash.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+      const cv::Mat& other = frames[it->second].image;
+      if (other.size() == image.size() && other.type() == image.type() && cv::norm(other, image, cv::NORM_INF) == 0) {
+        problems.push_back(frames[i].name + " is the same frame as " + frames[it->second].name +
+                           ": it would be learnt twice, and judged by folds that learnt it");
+        break;
+      }
+    }
+    by_hash.emplace(hash, i);
+  }
+}
+
 /// The colour model file written beside the configuration `out` (FILE.yaml -> FILE.colour_model.yml.gz; FileStorage
 /// gzips it: a forest is ~3 MB as text).
 std::string modelPathOf(const std::string& out) {
@@ -268,6 +292,7 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
       frames.push_back(std::move(f));
     }
   }
+  refuseRepeatedFrames(frames, problems);
   if (frames.empty() && problems.empty()) problems.push_back("no images found in the --images folders");
   if (!problems.empty()) throw std::runtime_error(joinProblems("cannot learn from these frames", problems));
   return frames;
