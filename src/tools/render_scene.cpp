@@ -153,10 +153,10 @@ YAML::Node groundTruthYaml(const underwater_stereo::sim::GroundTruthObject& g) {
   return n;
 }
 
-/// Removes the frame images an earlier render left in `dir` (left_NNNN.png / right_NNNN.png: this tool's names,
-/// nothing else), so that the directory holds this render's frames only; returns how many it removed.
+/// Removes the frame images an earlier render left in `dir` (left_NNNN.png / right_NNNN.png, 4 or more digits:
+/// this tool's names, nothing else), so that the directory holds this render's frames only; returns how many.
 int removeEarlierFrames(const std::string& dir) {
-  static const std::regex kFrame("(left|right)_[0-9]{4}\\.png");
+  static const std::regex kFrame("(left|right)_[0-9]{4,}\\.png");  // %04d: five digits from frame 10000
   int removed = 0;
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.is_regular_file() && std::regex_match(entry.path().filename().string(), kFrame)) {
