@@ -371,7 +371,9 @@ void AravisStereoSource::runCamera(int s) {
       }
       if (!lost_reason.empty()) break;
     }
-    if (!lost_reason.empty() && !streamed) lost_reason = "opened, but " + lost_reason;
+    // Lost before its first frame: a failed attempt to reopen (retried after the back-off), not another outage.
+    const bool never_streamed = !lost_reason.empty() && !streamed;
+    if (never_streamed) lost_reason = "opened, but " + lost_reason;
     {
       std::lock_guard<std::mutex> lock(side.mutex);
       if (!lost_reason.empty()) {
@@ -391,7 +393,7 @@ void AravisStereoSource::runCamera(int s) {
       // The camera is gone; closing is all that is left.
     }
     camera.reset();
-    if (!lost_reason.empty() && !streamed) {
+    if (never_streamed) {
       sleepFor(backoff);
       backoff = std::min(backoff * 2, config_.max_backoff_s);
     }
