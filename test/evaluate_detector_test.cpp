@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // evaluate_detector's brightness sweep end to end: its options are checked before anything is rendered, and a sweep
-// over scenes ends with one row per level that sums the scenes' own rows.
+// over scenes ends with one row per level that sums the scenes' own rows; scene objects it counts as distractors are
+// named.
 #include <gtest/gtest.h>
 
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -167,4 +169,23 @@ TEST(EvaluateDetector, LumaSetsTheExposureOfTheSampledPairs) {
       EXPECT_EQ(frames, 0) << bin << "\n" << text;
     }
   }
+}
+
+// A scene object of a colour the configuration does not designate counts as a distractor, and is named so: a
+// misspelt colour is seen for what it is, not as a buoy the detector missed.
+TEST(EvaluateDetector, SceneObjectsOfUndesignatedColoursAreNamed) {
+  const fs::path scene = fs::temp_directory_path() / ("evaluate_detector_test_" + std::to_string(::getpid()) + ".yaml");
+  std::ofstream(scene) << "name: typo\nrig: {width: 640, height: 400, pixel_size_um: 17.58}\nobjects:\n"
+                          "  - {name: buoy, shape: sphere, colour: rde, albedo: [0.8, 0.1, 0.1], position_m: [0, 0, 2],"
+                          " diameter_m: 0.3}\n"
+                          "  - {name: ball, shape: sphere, colour: yellow, albedo: [0.85, 0.75, 0.08],"
+                          " position_m: [0.4, 0, 2.5], diameter_m: 0.3}\n";
+  const fs::path log = logFile("typo");
+  ASSERT_EQ(runTool(kEvaluate + " --frames 1 " + scene.string(), log), 0) << readText(log);
+  const std::string text = readText(log);
+  EXPECT_NE(text.find(": counted as distractors, their colours not designated here: buoy (rde)\n"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("ball (yellow)"), std::string::npos) << text;
+  fs::remove(scene);
+  fs::remove(log);
 }

@@ -2,7 +2,8 @@
 // The learning tools end to end: learn_colours on frames and VOC labels that render_scene wrote, learnt over the
 // default configuration, gives a configuration that loads wherever it was written; learn_checks learns from records
 // and refuses records it cannot learn from; a grey frame is refused; learn_checks and learn_shapes name a records
-// folder, a records file given twice, an output they cannot write and a malformed record before learning anything.
+// folder, a records file given twice (or a copy of one), an output they cannot write and a malformed record before
+// learning anything.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -223,6 +224,7 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
   const DetectorConfig base = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml");
   const std::string good = (dir / "good.json").string();
   std::ofstream(good) << records(checkFeatureNames(base.learned.model->colours()).size(), true);
+  fs::copy_file(good, dir / "copy.json");
   const std::string model = (dir / "model.yml.gz").string();
   const struct {
     std::string args;
@@ -231,6 +233,9 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
   } cases[] = {
       {"--out " + model + " " + (dir / "folder").string(), 1, (dir / "folder").string() + ": is a folder, not a records file"},
       {"--out " + model + " " + good + " " + (dir / "." / "good.json").string(), 2, "good.json is given twice (also as " + good},
+      // A copy under another name: its records would be learnt twice as well.
+      {"--out " + model + " " + good + " " + (dir / "copy.json").string(), 2,
+       (dir / "copy.json").string() + " holds the same records as " + good},
       {"--out " + (dir / "folder").string() + " " + good, 2, "--out " + (dir / "folder").string() + " is a folder: give the"},
       {"--out " + (dir / "missing" / "m.yml.gz").string() + " " + good, 2, "is not a writable folder"},
       // The output one of the records: it would be overwritten (a probe found both learners did so).

@@ -217,3 +217,32 @@ TEST(Renderer, InvalidSceneIsRefused) {
   scene.rig.baseline_m = -1.0;
   EXPECT_THROW(Renderer{scene}, std::invalid_argument);
 }
+
+// A camera inside an object sees only its inside: no picture of the scene, so the scene is refused with the object
+// and the camera named; a camera just outside it is fine.
+TEST(Renderer, CameraInsideAnObjectIsRefused) {
+  const auto message = [](const Scene& scene) {
+    try {
+      Renderer{scene};
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(smallScene(sphere("ball", {0, 0, 0.1}, 0.5))).find("objects[0] (ball): the left camera lies inside it"),
+            std::string::npos);
+  Scene box = smallScene(sphere("crate", {0.1, 0, 0.3}, 0.2));
+  box.objects[0].shape = ShapeType::kBox;
+  box.objects[0].size_m = {0.4, 0.2, 0.8};
+  const std::string boxed = message(box);
+  EXPECT_NE(boxed.find("the left camera lies inside it"), std::string::npos) << boxed;
+  EXPECT_NE(boxed.find("the right camera lies inside it"), std::string::npos) << boxed;
+  Scene cylinder = smallScene(sphere("tube", {0, 0, 0.2}, 0.6));
+  cylinder.objects[0].shape = ShapeType::kCylinder;
+  EXPECT_NE(message(cylinder).find("(tube): the left camera lies inside it"), std::string::npos);
+  cylinder.objects[0].position_m.z() = 0.31;  // its near end beyond the camera
+  EXPECT_EQ(message(cylinder), "");
+  Scene panel = smallScene(sphere("sign", {0, 0, 0}, 1.0));
+  panel.objects[0].shape = ShapeType::kPanel;  // a panel through the camera has no inside
+  EXPECT_EQ(message(panel), "");
+}

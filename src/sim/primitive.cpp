@@ -14,6 +14,17 @@ Primitive::Primitive(ShapeType shape, const Eigen::Vector3f& centre, const Eigen
   if (shape_ == ShapeType::kSphere) bound_radius_sq_ = half_.x() * half_.x();
 }
 
+bool Primitive::contains(const Eigen::Vector3f& point) const {
+  const Eigen::Vector3f o = rotation_.transpose() * (point - centre_);
+  switch (shape_) {
+    case ShapeType::kSphere: return o.squaredNorm() < half_.x() * half_.x();
+    case ShapeType::kCylinder: return o.head<2>().squaredNorm() < half_.x() * half_.x() && std::abs(o.z()) < half_.z();
+    case ShapeType::kBox: return (o.cwiseAbs().array() < half_.array()).all();
+    case ShapeType::kPanel: return false;
+  }
+  return false;
+}
+
 bool Primitive::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max, Hit& hit) const {
   // Cheap rejection against the bounding sphere before the exact test in the object frame.
   const Eigen::Vector3f oc = origin - centre_;

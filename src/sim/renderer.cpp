@@ -233,6 +233,29 @@ cv::Mat develop(cv::Mat linear_bgr, const SensorConfig& sensor, std::uint64_t no
   return sensor.encoding == "bayer_rggb8" ? mosaicRggb(bgr8) : bgr8.clone();
 }
 
+/// @throw std::invalid_argument listing every problem of `scene` (Scene::validate) and every object that holds a
+/// camera at time 0 (its view would be the object's inside, no picture of the scene).
+void requireRenderable(const Scene& scene, const StereoRig& rig) {
+  std::vector<std::string> problems = scene.validate();
+  if (problems.empty()) {
+    const Eigen::Isometry3d left = cameraPose(scene.camera_motion, 0.0);
+    const std::pair<const char*, Eigen::Vector3d> cameras[] = {{"left", left.translation()},
+                                                               {"right", (left * rig.rightInLeft()).translation()}};
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      const SceneObject& o = scene.objects[i];
+      const Primitive placed(o.shape, (o.position_m + displacement(o.motion, 0.0)).cast<float>(),
+                             rotationFromRpyDeg(o.rpy_deg).cast<float>(), o.size_m.cast<float>());
+      for (const auto& [camera, at] : cameras) {
+        if (placed.contains(at.cast<float>())) {
+          problems.push_back("objects[" + std::to_string(i) + "] (" + o.name + "): the " + camera +
+                             " camera lies inside it at time 0");
+        }
+      }
+    }
+  }
+  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
+}
+
 }  // namespace
 
 cv::Mat mosaicRggb(const cv::Mat& bgr) {
@@ -251,8 +274,7 @@ cv::Mat mosaicRggb(const cv::Mat& bgr) {
 }
 
 Renderer::Renderer(Scene scene) : scene_(std::move(scene)), rig_(scene_.rig) {
-  const std::vector<std::string> problems = scene_.validate();
-  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
+  requireRenderable(scene_, rig_);
   // Both cameras' rays in one allocation (55 MB at 1920x1200), unmapped when the renderer goes, as Scratch's.
   const cv::Mat rays(2 * rig_.left().height, rig_.left().width, CV_32FC3);
   left_rays_ = rays.rowRange(0, rig_.left().height);
@@ -262,8 +284,7 @@ Renderer::Renderer(Scene scene) : scene_(std::move(scene)), rig_(scene_.rig) {
 }
 
 Renderer::Renderer(Scene scene, const Renderer& rays_from) : scene_(std::move(scene)), rig_(scene_.rig) {
-  const std::vector<std::string> problems = scene_.validate();
-  if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
+  requireRenderable(scene_, rig_);
   const RigConfig &a = scene_.rig, &b = rays_from.scene_.rig;
   if (a.width != b.width || a.height != b.height || a.pixel_size_um != b.pixel_size_um ||
       a.focal_length_mm != b.focal_length_mm || a.water_focal_factor != b.water_focal_factor ||

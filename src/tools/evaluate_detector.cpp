@@ -164,6 +164,20 @@ int evaluateSceneFiles(const DetectorConfig& config, const std::vector<std::pair
                        int frames, double rate) {
   std::vector<std::string> designated;
   for (const auto& c : config.colours.classes) designated.push_back(c.name);
+  // Objects of a colour the configuration does not designate count as distractors: named, so that a misspelt colour
+  // ("rde") is seen as one, not as a red buoy the detector should have found.
+  for (const auto& [path, scene] : scenes) {
+    std::string others;
+    for (const sim::SceneObject& o : scene.objects) {
+      if (std::find(designated.begin(), designated.end(), o.colour) == designated.end()) {
+        others += (others.empty() ? "" : ", ") + o.name + " (" + o.colour + ")";
+      }
+    }
+    if (!others.empty()) {
+      std::cerr << "evaluate_detector: " << path << ": counted as distractors, their colours not designated here: "
+                << others << "\n";
+    }
+  }
   Stats all;
   std::cout << "| scene | frames | objects | recall % | false/frame | range err median % | range err p95 % |"
                " position err p95 % | size err median % (<= 3 m) | shape correct % | detector ms (median) |\n"

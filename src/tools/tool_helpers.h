@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -161,6 +162,23 @@ inline void refuseRepeated(const std::string& option, const std::vector<std::str
   }
 }
 
+/// @throw std::invalid_argument when two of the files `paths` hold the same bytes (a copy under another name); `why`
+/// adds what learning from both would do. A file that cannot be read is left to its reader to name.
+inline void refuseCopies(const std::vector<std::string>& paths, const std::string& why) {
+  std::vector<std::string> contents;
+  for (const std::string& path : paths) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream bytes;
+    if (in) bytes << in.rdbuf();
+    contents.push_back(bytes.str());  // empty when unreadable
+    for (std::size_t j = 0; j + 1 < contents.size(); ++j) {
+      if (!contents.back().empty() && contents.back() == contents[j]) {
+        throw std::invalid_argument(path + " holds the same records as " + paths[j] + ": " + why);
+      }
+    }
+  }
+}
+
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
 /// @throw std::invalid_argument naming the file when it is a folder, not readable, holds no "pairs" list, a "config"
 /// that is no string, or was made with --swapped.
@@ -258,6 +276,7 @@ inline int checkOutputAndRecords(const std::string& tool, const char* usage, con
   try {
     checkWritableFile("--out", out, out_what);
     refuseRepeated("", records, learnt_twice);
+    refuseCopies(records, learnt_twice);
     for (const std::string& r : records) {
       std::error_code error;
       if (r == out || std::filesystem::equivalent(r, out, error)) {

@@ -25,6 +25,8 @@ class Primitive {
 
   /// Nearest intersection of the ray origin + t * dir (dir unit, world) with t in (0, t_max).
   bool intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float t_max, Hit& hit) const;
+  /// Whether `point` (world) lies inside the object (a panel has no inside).
+  bool contains(const Eigen::Vector3f& point) const;
 
  private:
   bool intersectSphere(const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max, float& t,
