@@ -170,7 +170,8 @@ void addObjectStages(StageTimings& into, const StageTimings& t) {
   into.fit_ms += t.fit_ms;
 }
 
-/// Pieces of one object (a near object split by a highlight or a shading band into detections of one colour
+/// Pieces of one object (a near object split by a highlight or a shading band into detections of one colour, the
+/// colour they are reported in: the check may have renamed one, whose region the colour model named another,
 /// whose 3D clusters nearly touch) are measured again as the one region they make together. "Nearly": within
 /// kPieceGapInEps cluster radii (eps_m), chosen on the validation seeds 60000-60029 (evaluate_detector --random
 /// 30): false detections per pair 0.400 without joining, 0.367 at 1 and 2 eps, 0.300 at 4 and 8 eps, recall
@@ -181,20 +182,26 @@ constexpr double kPieceGapInEps = 4.0;
 /// detection takes the first piece's place and the others are reported as rejected, naming it; when the joined
 /// region cannot be measured the pieces stay as they were.
 template <typename MeasureOne>
-void joinPieces(const std::vector<Candidate>& candidates, std::vector<std::optional<Detection>>& found,
-                std::vector<Rejection>& why, std::vector<StageTimings>& times, MeasureOne&& measureOne, const cv::Size& frame,
-                double gap_m) {
-  std::vector<int> index, colours;
+void joinPieces(const std::vector<Candidate>& candidates, const std::vector<ColourClass>& classes,
+                std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why, std::vector<StageTimings>& times,
+                MeasureOne&& measureOne, const cv::Size& frame, double gap_m) {
+  std::vector<int> index, colours;  // colours: of the reported detections, as class indices
   std::vector<std::vector<Eigen::Vector3f>> clusters;
   for (int k = 0; k < static_cast<int>(found.size()); ++k) {
     if (!found[k]) continue;
     index.push_back(k);
-    colours.push_back(candidates[k].colour_index);
+    const ColourClass* reported = findColourClass(classes, found[k]->colour);
+    colours.push_back(reported != nullptr ? static_cast<int>(reported - classes.data()) : candidates[k].colour_index);
     clusters.push_back(found[k]->points);
   }
   for (const std::vector<int>& group : piecesOfOneObject(colours, clusters, gap_m)) {
+    std::vector<Candidate> in_colour;  // the pieces' regions, each in the colour its detection is reported in
+    for (int g : group) {
+      in_colour.push_back(candidates[index[g]]);
+      in_colour.back().colour_index = colours[g];
+    }
     std::vector<const Candidate*> pieces;
-    for (int g : group) pieces.push_back(&candidates[index[g]]);
+    for (const Candidate& c : in_colour) pieces.push_back(&c);
     const int first = index[group.front()];
     StageTimings t;
     Rejection rejected;
@@ -518,7 +525,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       found[k].reset();
     }
   } else {
-    joinPieces(front.candidates, found, why, times,
+    joinPieces(front.candidates, config_.colours.classes, found, why, times,
                [&](const Candidate& c, StageTimings& t, Rejection& r) { return measureOne(c, t, r, nullptr); }, left.size(),
                kPieceGapInEps * config_.cluster.eps_m);
   }
