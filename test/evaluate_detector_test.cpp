@@ -172,7 +172,8 @@ TEST(EvaluateDetector, LumaSetsTheExposureOfTheSampledPairs) {
 }
 
 // A scene object of a colour the configuration does not designate counts as a distractor, and is named so: a
-// misspelt colour is seen for what it is, not as a buoy the detector missed.
+// misspelt colour is seen for what it is, not as a buoy the detector missed. A scene that cannot be rendered is named
+// before anything is.
 TEST(EvaluateDetector, SceneObjectsOfUndesignatedColoursAreNamed) {
   const fs::path scene = fs::temp_directory_path() / ("evaluate_detector_test_" + std::to_string(::getpid()) + ".yaml");
   std::ofstream(scene) << "name: typo\nrig: {width: 640, height: 400, pixel_size_um: 17.58}\nobjects:\n"
@@ -186,6 +187,19 @@ TEST(EvaluateDetector, SceneObjectsOfUndesignatedColoursAreNamed) {
   EXPECT_NE(text.find(": counted as distractors, their colours not designated here: buoy (rde)\n"), std::string::npos)
       << text;
   EXPECT_EQ(text.find("ball (yellow)"), std::string::npos) << text;
+  // A scene that cannot be rendered (the camera inside the buoy) is named as such before any scene is rendered.
+  const fs::path inside = scene.string() + ".inside.yaml";
+  std::ofstream(inside) << "name: inside\nrig: {width: 640, height: 400, pixel_size_um: 17.58}\nobjects:\n"
+                           "  - {name: buoy, shape: sphere, colour: red, position_m: [0, 0, 0.1], diameter_m: 0.5}\n";
+  EXPECT_EQ(runTool(kEvaluate + " --frames 1 " + scene.string() + " " + inside.string(), log), 2) << readText(log);
+  const std::string refused = readText(log);
+  EXPECT_NE(refused.find(inside.string() + ": invalid scene"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("objects[0] (buoy): the left camera lies inside it at time 0"), std::string::npos) << refused;
+  EXPECT_EQ(refused.find("the detector refuses its rig"), std::string::npos) << refused;
+  EXPECT_NE(text.find("| " + scene.filename().string() + " |"), std::string::npos) << text;  // its row when rendered
+  EXPECT_EQ(refused.find("| " + scene.filename().string() + " |"), std::string::npos)
+      << "a scene rendered before the refusal: " << refused;
+  fs::remove(inside);
   fs::remove(scene);
   fs::remove(log);
 }

@@ -82,6 +82,23 @@ TEST(RenderScene, StampsAndTopicsABagCannotHoldAreRefused) {
   }
 }
 
+// A scene whose camera lies inside an object (it would see only the object's inside) is refused as a bad scene: exit
+// 2, the object named, nothing written.
+TEST(RenderScene, ASceneWithTheCameraInsideAnObjectIsRefused) {
+  const fs::path dir = fs::temp_directory_path() / ("render_scene_inside_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::ofstream(dir / "inside.yaml") << "rig: {width: 640, height: 400, pixel_size_um: 17.58}\nobjects:\n"
+                                        "  - {name: crate, shape: box, colour: red, position_m: [0, 0, 0.1],"
+                                        " size_m: [0.5, 0.5, 0.5]}\n";
+  const fs::path log = dir / "render.log";
+  const std::string args = "--scene " + (dir / "inside.yaml").string() + " --frames 1 --png-dir " + (dir / "png").string();
+  EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " " + args, log), 2);
+  EXPECT_NE(readText(log).find("objects[0] (crate): the left camera lies inside it at time 0"), std::string::npos)
+      << readText(log);
+  EXPECT_FALSE(fs::exists(dir / "png" / "left_0000.png"));
+  fs::remove_all(dir);
+}
+
 // The sampler's options (--size WxH, --luma LO,HI): a value the sampler cannot take is named as given, one that is
 // not of the option's form as such; exit 2, nothing written.
 TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {

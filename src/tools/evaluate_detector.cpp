@@ -433,7 +433,7 @@ int main(int argc, char** argv) {
     scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, problems);
     if (scenes.empty() && config_loaded) {
       const std::string problem =
-          tools::rigProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)");
+          tools::sceneProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)");
       if (!problem.empty()) problems.push_back(problem);
     }
     if (!problems.empty()) {

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <string>
 #include <vector>
@@ -210,14 +211,14 @@ int main(int argc, char** argv) {
       writeTrainingData(opt);
       return 0;
     }
-    sim::Scene scene;
-    try {
-      scene = sim::loadSceneFile(opt.scene);
+    std::optional<sim::Renderer> made;
+    try {  // a scene that cannot be read or rendered (a camera inside an object)
+      made.emplace(sim::loadSceneFile(opt.scene));
     } catch (const std::exception& e) {  // the command line named a bad scene: as a bad option
       std::cerr << "render_scene: " << e.what() << "\n";
       return 2;
     }
-    const sim::Renderer renderer(scene);
+    const sim::Renderer& renderer = *made;
     const StereoCalibration& calib = renderer.calibration();
     rosbag::Bag bag;
     if (!opt.bag.empty()) bag.open(opt.bag, rosbag::bagmode::Write);

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Scene files for a tool that runs the detector on them: every one read, and each rig tried on the detector, before
-// anything is rendered or timed, so that a bad one is named at once (not after the scenes before it).
+// Scene files for a tool that runs the detector on them: every one read, made ready to render and its rig tried on the
+// detector, before anything is rendered or timed, so that a bad one is named at once (not after the scenes before it).
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -14,18 +15,26 @@
 namespace underwater_stereo {
 namespace tools {
 
-/// Why the detector with `config` refuses the rig (image size, baseline) of `scene`, named `named`; "" when it takes it.
-inline std::string rigProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named) {
+/// Why `scene`, named `named`, cannot be rendered (a camera inside an object) or the detector with `config` refuses its
+/// rig (image size, baseline); "" when neither.
+inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named) {
+  std::optional<sim::Renderer> renderer;
   try {
-    const Detector detector(config, sim::Renderer(scene).calibration());
+    renderer.emplace(scene);
+  } catch (const std::exception& e) {
+    return named + ": " + e.what();
+  }
+  try {
+    const Detector detector(config, renderer->calibration());
   } catch (const std::exception& e) {
     return named + ": the detector refuses its rig: " + e.what();
   }
   return "";
 }
 
-/// The scene files at `paths` that can be read; each that cannot, or whose rig the detector with `config` refuses (not
-/// tried when `config` is null: the configuration could not be read), is added to `problems`.
+/// The scene files at `paths` that can be read; each that cannot, cannot be rendered, or whose rig the detector with
+/// `config` refuses (the last two not tried when `config` is null: the configuration could not be read), is added to
+/// `problems`.
 inline std::vector<std::pair<std::string, sim::Scene>> readSceneFiles(const std::vector<std::string>& paths,
                                                                       const DetectorConfig* config,
                                                                       std::vector<std::string>& problems) {
@@ -38,7 +47,7 @@ inline std::vector<std::pair<std::string, sim::Scene>> readSceneFiles(const std:
       continue;
     }
     if (config == nullptr) continue;
-    if (std::string problem = rigProblem(*config, scenes.back().second, path); !problem.empty()) {
+    if (std::string problem = sceneProblem(*config, scenes.back().second, path); !problem.empty()) {
       problems.push_back(std::move(problem));
     }
   }
