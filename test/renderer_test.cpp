@@ -242,6 +242,16 @@ TEST(Renderer, CameraInsideAnObjectIsRefused) {
   EXPECT_NE(message(cylinder).find("(tube): the left camera lies inside it"), std::string::npos);
   cylinder.objects[0].position_m.z() = 0.31;  // its near end beyond the camera
   EXPECT_EQ(message(cylinder), "");
+  // Long and thin along the optical axis, both cameras inside; turned across it (pitch 90 deg: its length along
+  // x), the cameras lie 0.5 m from its axis: what counts is the object's own frame, its length along local z.
+  for (const ShapeType shape : {ShapeType::kCylinder, ShapeType::kBox}) {
+    Scene rod = smallScene(sphere("rod", {0, 0, 0.5}, 0.2));
+    rod.objects[0].shape = shape;
+    rod.objects[0].size_m = {0.2, 0.2, 1.2};
+    EXPECT_NE(message(rod).find("(rod): the left camera lies inside it"), std::string::npos) << shapeName(shape);
+    rod.objects[0].rpy_deg = {0, 90, 0};
+    EXPECT_EQ(message(rod), "") << shapeName(shape);
+  }
   Scene panel = smallScene(sphere("sign", {0, 0, 0}, 1.0));
   panel.objects[0].shape = ShapeType::kPanel;  // a panel through the camera has no inside
   EXPECT_EQ(message(panel), "");

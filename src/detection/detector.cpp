@@ -170,9 +170,9 @@ void addObjectStages(StageTimings& into, const StageTimings& t) {
   into.fit_ms += t.fit_ms;
 }
 
-/// Pieces of one object (a near object split by a highlight or a shading band into detections of one colour, the
-/// colour they are reported in: the check may have renamed one, whose region the colour model named another,
-/// whose 3D clusters nearly touch) are measured again as the one region they make together. "Nearly": within
+/// Pieces of one object: a near object split by a highlight or a shading band into detections reported in one
+/// colour (the colour model may have named a piece another colour that the check renamed) whose 3D clusters nearly
+/// touch. They are measured again as the one region they make together. "Nearly": within
 /// kPieceGapInEps cluster radii (eps_m), chosen on the validation seeds 60000-60029 (evaluate_detector --random
 /// 30): false detections per pair 0.400 without joining, 0.367 at 1 and 2 eps, 0.300 at 4 and 8 eps, recall
 /// 63.6 % throughout; the band cut out of a near object leaves a gap wider than one eps.
@@ -198,7 +198,12 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     std::vector<Candidate> in_colour;  // the pieces' regions, each in the colour its detection is reported in
     for (int g : group) {
       in_colour.push_back(candidates[index[g]]);
-      in_colour.back().colour_index = colours[g];
+      Candidate& piece = in_colour.back();
+      // A piece the check renamed: the colour model's confidence was in another colour, none in this one, so the
+      // joined region takes its description (confidence, learned features) from a piece named this colour when
+      // there is one.
+      if (piece.colour_index != colours[g]) piece.colour_fraction = 0;
+      piece.colour_index = colours[g];
     }
     std::vector<const Candidate*> pieces;
     for (const Candidate& c : in_colour) pieces.push_back(&c);
@@ -210,7 +215,7 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     if (!joined) continue;
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];
-      why[k] = Rejection{found[k]->roi, found[k]->colour, candidates[k].colour_fraction, RejectionStage::kPieceOfObject,
+      why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kPieceOfObject,
                          "a piece of the object at " + std::to_string(joined->range_m) + " m reported whole"};
       found[k].reset();
     }
@@ -520,8 +525,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                " found their silhouette where it should be (left and right images the wrong way round?)";
     for (int k = 0; k < n; ++k) {
       if (!found[k]) continue;
-      why[k] = Rejection{found[k]->roi, found[k]->colour, front.candidates[k].colour_fraction,
-                         RejectionStage::kLeftRightSwapped, reason};
+      why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kLeftRightSwapped,
+                         reason};
       found[k].reset();
     }
   } else {

@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
     std::optional<sim::Renderer> made;
     try {  // a scene that cannot be read or rendered (a camera inside an object)
       made.emplace(sim::loadSceneFile(opt.scene));
-    } catch (const std::exception& e) {  // the command line named a bad scene: as a bad option
+    } catch (const std::invalid_argument& e) {  // the command line named a bad scene: as a bad option
       std::cerr << "render_scene: " << e.what() << "\n";
       return 2;
     }

@@ -21,7 +21,7 @@ inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& 
   std::optional<sim::Renderer> renderer;
   try {
     renderer.emplace(scene);
-  } catch (const std::exception& e) {
+  } catch (const std::invalid_argument& e) {
     return named + ": " + e.what();
   }
   try {

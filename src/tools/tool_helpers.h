@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -165,14 +166,19 @@ inline void refuseRepeated(const std::string& option, const std::vector<std::str
 /// @throw std::invalid_argument when two of the files `paths` hold the same bytes (a copy under another name); `why`
 /// adds what learning from both would do. A file that cannot be read is left to its reader to name.
 inline void refuseCopies(const std::vector<std::string>& paths, const std::string& why) {
-  std::vector<std::string> contents;
-  for (const std::string& path : paths) {
+  const auto bytesOf = [](const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::ostringstream bytes;
     if (in) bytes << in.rdbuf();
-    contents.push_back(bytes.str());  // empty when unreadable
-    for (std::size_t j = 0; j + 1 < contents.size(); ++j) {
-      if (!contents.back().empty() && contents.back() == contents[j]) {
+    return bytes.str();
+  };
+  std::vector<std::uintmax_t> sizes;  // 0 when empty or unreadable: never a copy
+  for (const std::string& path : paths) {
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    sizes.push_back(error ? 0 : size);
+    for (std::size_t j = 0; j + 1 < sizes.size(); ++j) {  // read only files of one size
+      if (sizes.back() != 0 && sizes.back() == sizes[j] && bytesOf(path) == bytesOf(paths[j])) {
         throw std::invalid_argument(path + " holds the same records as " + paths[j] + ": " + why);
       }
     }
@@ -268,8 +274,8 @@ inline int parseRecordsCommandLine(int argc, char** argv, const std::string& too
 }
 
 /// A learning tool's output file and records files checked before any record is read (checkWritableFile,
-/// refuseRepeated, and the output is none of the records: it would overwrite one): @return -1 to go on, or 2 with the
-/// problem and the usage printed.
+/// refuseRepeated, refuseCopies, and the output is none of the records: it would overwrite one): @return -1 to go on,
+/// or 2 with the problem and the usage printed.
 inline int checkOutputAndRecords(const std::string& tool, const char* usage, const std::string& out,
                                  const std::string& out_what, const std::vector<std::string>& records,
                                  const std::string& learnt_twice) {
