@@ -364,7 +364,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           const cv::Mat& left_colour, bool check_may_rename, StageTimings& t,
+                                           const cv::Mat& left_colour, CheckUse check_use, StageTimings& t,
                                            Rejection& rejected, ObjectOrderEvidence* order) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
   rejected = Rejection{c.roi, colour.name, c.colour_fraction, RejectionStage::kTooFewPoints, ""};
@@ -428,11 +428,11 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   if (config_.learned.check) {
     const DetectionCheck& check = *config_.learned.check;
     colour_share = check.objectScore(d.check_features);
-    if (check_may_rename) {
+    if (check_use.may_rename) {
       d.colour = colourAfterCheck(check.colourVerdict(d.check_features), check.colours(), d.colour,
                                   config_.colours.classes, config_.learned.check_rename_margin);
     }
-    if (colour_share < config_.learned.check_min_confidence) {
+    if (check_use.may_reject && colour_share < config_.learned.check_min_confidence) {
       rejected.stage = RejectionStage::kCheckAfterStereo;
       char text[128];
       std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: an object at %.2f, under "
@@ -479,7 +479,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other thread.
   const int n = static_cast<int>(front.candidates.size());
-  const bool check_may_rename = !front.quality.enhanced;  // not a dark frame (the check learnt few of their colours)
+  const CheckUse check_use{!front.quality.enhanced, true};
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -487,7 +487,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<std::optional<Detection>> found(n);
   std::vector<StageTimings> times(n);
   std::vector<Rejection> why(n);
-  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected, ObjectOrderEvidence* pair_order) {
+  auto measureOne = [&](const Candidate& c, StageTimings& t, Rejection& rejected, ObjectOrderEvidence* pair_order,
+                        CheckUse use) {
     cv::Mat right_colour = whole_right_colour;
     cv::Point origin;
     if (right_colour.empty()) {
@@ -506,7 +507,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, check_may_rename, t, rejected, pair_order);
+    return measure(c, left, right, right_colour, origin, left_colour, use, t, rejected, pair_order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may
@@ -514,7 +515,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<ObjectOrderEvidence> evidence(n);
   workOnThreads(n, config_.pair_threads, [&](int i) {
     const int k = order[i];
-    found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k]);
+    found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k], check_use);
   });
   const PairOrder pair_order = pairOrder(evidence);
   result.looks_swapped = pair_order.looksSwapped();
@@ -531,7 +532,12 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     }
   } else {
     joinPieces(front.candidates, config_.colours.classes, found, why, times,
-               [&](const Candidate& c, StageTimings& t, Rejection& r) { return measureOne(c, t, r, nullptr); }, left.size(),
+               [&](const Candidate& c, StageTimings& t, Rejection& r) {
+                 // Each piece passed the check and its colour is theirs: the check neither turns the joined region
+                 // down nor renames it.
+                 return measureOne(c, t, r, nullptr, CheckUse{false, false});
+               },
+               left.size(),
                kPieceGapInEps * config_.cluster.eps_m);
   }
   for (int k = 0; k < n; ++k) {

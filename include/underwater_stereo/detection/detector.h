@@ -91,11 +91,17 @@ class Detector {
   const DetectorConfig& config() const { return config_; }
 
  private:
+  /// What the check after stereo (colour_model.check_file) may do with a measured candidate besides scoring it.
+  struct CheckUse {
+    bool may_rename = true;  ///< name its colour: not in a dark frame (quality.enhanced), whose colours it learnt few of
+    /// turn it down: not a region joined from pieces that each passed it (the join is a matter of geometry)
+    bool may_reject = true;
+  };
+
   /// Stereo, clustering and shape of one candidate (the masks as RoiStereoMatcher::match takes them).
-  /// `check_may_rename`: the check after stereo may name its colour (the frame is not dark, !quality.enhanced).
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                   const cv::Mat& left_colour, bool check_may_rename, StageTimings& t,
+                                   const cv::Mat& left_colour, CheckUse check_use, StageTimings& t,
                                    Rejection& rejected, ObjectOrderEvidence* order = nullptr) const;
 
   DetectorConfig config_;
