@@ -172,13 +172,15 @@ inline void refuseCopies(const std::vector<std::string>& paths, const std::strin
     if (in) bytes << in.rdbuf();
     return bytes.str();
   };
-  std::vector<std::uintmax_t> sizes;  // 0 when empty or unreadable: never a copy
+  std::vector<std::uintmax_t> sizes;  // 0 when empty or not a file: never a copy
   for (const std::string& path : paths) {
     std::error_code error;
     const std::uintmax_t size = std::filesystem::file_size(path, error);
     sizes.push_back(error ? 0 : size);
-    for (std::size_t j = 0; j + 1 < sizes.size(); ++j) {  // read only files of one size
-      if (sizes.back() != 0 && sizes.back() == sizes[j] && bytesOf(path) == bytesOf(paths[j])) {
+    for (std::size_t j = 0; j + 1 < sizes.size(); ++j) {  // read only files of one size; unreadable ones read empty
+      if (sizes.back() == 0 || sizes.back() != sizes[j]) continue;
+      const std::string bytes = bytesOf(path);
+      if (!bytes.empty() && bytes == bytesOf(paths[j])) {
         throw std::invalid_argument(path + " holds the same records as " + paths[j] + ": " + why);
       }
     }
