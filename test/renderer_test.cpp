@@ -242,15 +242,22 @@ TEST(Renderer, CameraInsideAnObjectIsRefused) {
   EXPECT_NE(message(cylinder).find("(tube): the left camera lies inside it"), std::string::npos);
   cylinder.objects[0].position_m.z() = 0.31;  // its near end beyond the camera
   EXPECT_EQ(message(cylinder), "");
-  // Long and thin along the optical axis, both cameras inside; turned across it (pitch 90 deg: its length along
-  // x), the cameras lie 0.5 m from its axis: what counts is the object's own frame, its length along local z.
+  // What counts is the object's own frame, its length along local z, turned roll x, then pitch y, then yaw z. A rod
+  // 0.3 m thick (the cameras 0.12 m apart) and 1.2 m long along the optical axis holds both cameras; turned across
+  // it (pitch 90 deg: its length along x) the cameras lie 0.5 m from its axis; rolled and pitched 90 deg (its length
+  // along y) and raised 0.3 m it holds them again (pitched first, its length would lie along x).
   for (const ShapeType shape : {ShapeType::kCylinder, ShapeType::kBox}) {
-    Scene rod = smallScene(sphere("rod", {0, 0, 0.5}, 0.2));
+    Scene rod = smallScene(sphere("rod", {0, 0, 0.5}, 0.3));
     rod.objects[0].shape = shape;
-    rod.objects[0].size_m = {0.2, 0.2, 1.2};
-    EXPECT_NE(message(rod).find("(rod): the left camera lies inside it"), std::string::npos) << shapeName(shape);
+    rod.objects[0].size_m = {0.3, 0.3, 1.2};
+    const std::string along = message(rod);
+    EXPECT_NE(along.find("(rod): the left camera lies inside it"), std::string::npos) << shapeName(shape) << along;
+    EXPECT_NE(along.find("(rod): the right camera lies inside it"), std::string::npos) << shapeName(shape) << along;
     rod.objects[0].rpy_deg = {0, 90, 0};
     EXPECT_EQ(message(rod), "") << shapeName(shape);
+    rod.objects[0].rpy_deg = {90, 90, 0};
+    rod.objects[0].position_m = {0, 0.3, 0};
+    EXPECT_NE(message(rod).find("(rod): the left camera lies inside it"), std::string::npos) << shapeName(shape);
   }
   Scene panel = smallScene(sphere("sign", {0, 0, 0}, 1.0));
   panel.objects[0].shape = ShapeType::kPanel;  // a panel through the camera has no inside

@@ -199,9 +199,9 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     for (int g : group) {
       in_colour.push_back(candidates[index[g]]);
       Candidate& piece = in_colour.back();
-      // A piece the check renamed: the colour model's confidence was in another colour, none in this one, so the
-      // joined region takes its description (confidence, learned features) from a piece named this colour when
-      // there is one.
+      // A piece the check renamed: its colour_fraction is the colour model's confidence in another colour, so the
+      // joined region takes its description (confidence, learned features) from a piece the model named this
+      // colour when there is one.
       if (piece.colour_index != colours[g]) piece.colour_fraction = 0;
       piece.colour_index = colours[g];
     }
@@ -213,6 +213,9 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     std::optional<Detection> joined = measureOne(joinedCandidate(pieces, frame), t, rejected);
     addObjectStages(times[first], t);
     if (!joined) continue;
+    for (int g : group) {  // as sure as its surest piece (the check may score the whole lower than each piece)
+      joined->confidence = std::max(joined->confidence, found[index[g]]->confidence);
+    }
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];
       why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kPieceOfObject,
@@ -434,6 +437,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     }
     if (check_use.may_reject && colour_share < config_.learned.check_min_confidence) {
       rejected.stage = RejectionStage::kCheckAfterStereo;
+      rejected.confidence = colour_share;
       char text[128];
       std::snprintf(text, sizeof(text), "checked after stereo at %.2f m: an object at %.2f, under "
                     "colour_model.check_min_confidence %.2f", d.range_m, colour_share, config_.learned.check_min_confidence);
@@ -479,7 +483,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other thread.
   const int n = static_cast<int>(front.candidates.size());
-  const CheckUse check_use{!front.quality.enhanced, true};
+  CheckUse check_use;
+  check_use.may_rename = !front.quality.enhanced;
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -535,7 +540,10 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                [&](const Candidate& c, StageTimings& t, Rejection& r) {
                  // Each piece passed the check and its colour is theirs: the check neither turns the joined region
                  // down nor renames it.
-                 return measureOne(c, t, r, nullptr, CheckUse{false, false});
+                 CheckUse joined;
+                 joined.may_rename = false;
+                 joined.may_reject = false;
+                 return measureOne(c, t, r, nullptr, joined);
                },
                left.size(),
                kPieceGapInEps * config_.cluster.eps_m);

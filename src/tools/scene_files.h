@@ -4,6 +4,7 @@
 // detector, before anything is rendered or timed, so that a bad one is named at once (not after the scenes before it).
 #include <exception>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>

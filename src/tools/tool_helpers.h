@@ -16,6 +16,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -166,22 +167,26 @@ inline void refuseRepeated(const std::string& option, const std::vector<std::str
 /// @throw std::invalid_argument when two of the files `paths` hold the same bytes (a copy under another name); `why`
 /// adds what learning from both would do. A file that cannot be read is left to its reader to name.
 inline void refuseCopies(const std::vector<std::string>& paths, const std::string& why) {
-  const auto bytesOf = [](const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream bytes;
-    if (in) bytes << in.rdbuf();
-    return bytes.str();
-  };
   std::vector<std::uintmax_t> sizes;  // 0 when empty or not a file: never a copy
-  for (const std::string& path : paths) {
+  std::vector<std::optional<std::string>> contents;  // each file read once, and only when another has its size
+  const auto bytesOf = [&](std::size_t i) -> const std::string& {
+    if (!contents[i]) {
+      std::ifstream in(paths[i], std::ios::binary);
+      std::ostringstream bytes;
+      if (in) bytes << in.rdbuf();
+      contents[i] = bytes.str();  // empty when unreadable
+    }
+    return *contents[i];
+  };
+  for (std::size_t i = 0; i < paths.size(); ++i) {
     std::error_code error;
-    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    const std::uintmax_t size = std::filesystem::file_size(paths[i], error);
     sizes.push_back(error ? 0 : size);
-    for (std::size_t j = 0; j + 1 < sizes.size(); ++j) {  // read only files of one size; unreadable ones read empty
-      if (sizes.back() == 0 || sizes.back() != sizes[j]) continue;
-      const std::string bytes = bytesOf(path);
-      if (!bytes.empty() && bytes == bytesOf(paths[j])) {
-        throw std::invalid_argument(path + " holds the same records as " + paths[j] + ": " + why);
+    contents.emplace_back();
+    for (std::size_t j = 0; j < i; ++j) {
+      if (sizes[i] == 0 || sizes[i] != sizes[j]) continue;
+      if (!bytesOf(i).empty() && bytesOf(i) == bytesOf(j)) {
+        throw std::invalid_argument(paths[i] + " holds the same records as " + paths[j] + ": " + why);
       }
     }
   }

@@ -77,6 +77,8 @@ std::string rejectionStageName(RejectionStage stage);
 struct Rejection {
   cv::Rect roi;          ///< raw image pixels
   std::string colour;    ///< the colour it was taken for (empty: none)
+  /// How sure what turned it down was of it: the colour search's confidence; for kCheckAfterStereo the check's
+  /// object score; for kPieceOfObject and kLeftRightSwapped the confidence it would have been reported with.
   double confidence = 0;
   RejectionStage stage = RejectionStage::kColourUncertain;
   std::string reason;    ///< the stage's particulars, for a person
