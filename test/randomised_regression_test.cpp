@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Regression guard on randomised scenes (issue 14): the default configuration on a few held-out sampled pairs
 // must stay near its documented figures (docs/accuracy.md; thresholds a little below them: a small sample); and
-// validation pairs whose object came in two pieces.
+// validation pairs whose object came in two pieces or touched another.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "../src/tools/random_evaluation.h"
@@ -113,4 +114,27 @@ TEST(RandomisedRegression, PiecesTheCheckRenamedAlikeAreOneObject) {
 // the tube is reported once.
 TEST(RandomisedRegression, PiecesTheCheckPassedAreJoinedWhateverItThinksOfTheWhole) {
   expectOnePieceJoined(60187, "red_cylinder_2", "red");
+}
+
+// A yellow ball at 2.9 m in front of a purple tube (validation seed 60297) makes one region with it at every saliency
+// level, which the colour model names neither (red, 0.36 of the votes); cut along the image's steps, the ball's piece
+// is named yellow with its own votes and the tube's piece nothing. A piece named a colour other than its region's is
+// proposed besides it, so the ball is found, yellow and within 3 % of its range (missed with "no votes" when only a
+// region holding pieces of two named colours gave way to them).
+TEST(RandomisedRegression, APieceNamedOtherThanItsRegionIsProposed) {
+  const sim::SampledScene sampled = sim::sampleScene(60297);
+  const sim::Renderer head(sampled.scene);
+  const sim::RenderedPair pair = head.render(0.0, 0);
+  const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
+  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
+  const tools::PairRecord r =
+      tools::evaluatePair(sampled, pair, detector.detect(left, right), sim::meanLuma(left.bgr()));
+  const auto ball = std::find_if(r.objects.begin(), r.objects.end(),
+                                 [](const tools::ObjectRecord& o) { return o.name == "yellow_sphere_1"; });
+  ASSERT_NE(ball, r.objects.end());
+  ASSERT_TRUE(ball->eligible);
+  ASSERT_TRUE(ball->found);
+  EXPECT_EQ(ball->detected_colour, "yellow");
+  EXPECT_LT(std::abs(ball->range_error), 0.03);
+  EXPECT_TRUE(r.false_detections.empty()) << r.false_detections.size() << " false";
 }

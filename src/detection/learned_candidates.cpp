@@ -99,8 +99,10 @@ ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfi
 constexpr double kPieceInside = 0.9;
 
 /// Which regions stand for their objects: a region that holds pieces (BlobProposal::piece) named two colours with
-/// their own votes (`own_needed`) holds two objects, so its pieces stand for it and it does not; a piece inside no
-/// such region does not (the region it was cut from names its object).
+/// their own votes (`own_needed`) holds two objects, so its pieces stand for it and it does not; a piece cut from a
+/// region (its box inside the region's) and named with its own votes a colour other than the region's (an object
+/// touching a distractor, the region named after their mixture) stands besides the region, the more confident of the
+/// two taken (findLearnedCandidates); any other piece does not (the region it was cut from names its object).
 std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
                               const std::vector<double>& own_needed) {
   std::vector<std::size_t> named_pieces;
@@ -119,8 +121,9 @@ std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const st
       return verdicts[p].colour != verdicts[inside.front()].colour;
     });
     stands[i] = !two_colours;
-    if (two_colours) {
-      for (std::size_t p : inside) stands[p] = true;
+    for (std::size_t p : inside) {
+      const bool cut_from_it = (regions[p].roi & regions[i].roi).area() >= kPieceInside * regions[p].roi.area();
+      if (two_colours || (cut_from_it && verdicts[p].colour != verdicts[i].colour)) stands[p] = true;
     }
   }
   return stands;
