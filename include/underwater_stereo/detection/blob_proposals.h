@@ -22,8 +22,9 @@ struct ProposalConfig {
   /// Large regions a colour model names are also cut along the image's steps (cutIntoPieces): where the gradient of
   /// ln((I + 4) / 4), the three channels together, exceeds this per searched pixel (0: never). Two touching objects
   /// (a box behind a buoy, a panel against a sphere, a buoy against a distractor) make one region at every saliency
-  /// level; its pieces may be named apart, or one named other than the region (findLearnedCandidates). The Detector cuts none in a dark frame. 0.15 chosen on the validation seeds
-  /// 60000-60299 among 0.07, 0.1, 0.15 and 0.2 (docs/accuracy.md, "Touching objects cut along steps").
+  /// level; its pieces may be named apart, or one named other than the region (findLearnedCandidates). The Detector
+  /// cuts none in a dark frame. 0.15 chosen on the validation seeds 60000-60299 among 0.07, 0.1, 0.15 and 0.2
+  /// (docs/accuracy.md, "Touching objects cut along steps").
   double piece_step = 0.15;
 
   std::vector<std::string> validate() const;
