@@ -338,14 +338,18 @@ class StereoCameraNodelet : public nodelet::Nodelet {
     const std::uint64_t previous = last_frames_[side];
     last_frames_[side] = c.frames;
     const double fps = static_cast<double>(c.frames - std::min(previous, c.frames));  // per 1 s update
-    if (c.state == CameraState::kStreaming && fps > 0 && !c.unsupported.empty()) {
-      std::string features;
-      for (const auto& u : c.unsupported) features += (features.empty() ? "" : ", ") + u.substr(0, u.find(':'));
-      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                   "streaming, but the camera lacks " + features + " (see 'unsupported ...')");
-    } else if (c.state == CameraState::kStreaming) {
-      stat.summary(fps > 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN,
-                   fps > 0 ? "streaming" : "streaming, no frames in the last second");
+    if (c.state == CameraState::kStreaming) {
+      // A feature the camera lacks stays in the summary through a second without frames (a stall under load).
+      std::string message = fps > 0 ? "streaming" : "streaming, no frames in the last second";
+      if (!c.unsupported.empty()) {
+        std::string features;
+        for (const auto& u : c.unsupported) features += (features.empty() ? "" : ", ") + u.substr(0, u.find(':'));
+        message += (fps > 0 ? ", but" : ", and") + std::string(" the camera lacks ") + features +
+                   " (see 'unsupported ...')";
+      }
+      stat.summary(fps > 0 && c.unsupported.empty() ? diagnostic_msgs::DiagnosticStatus::OK
+                                                     : diagnostic_msgs::DiagnosticStatus::WARN,
+                   message);
     } else {
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, cameraStateName(c.state) + (c.last_error.empty() ? "" : ": " + c.last_error));
     }
