@@ -46,6 +46,9 @@ struct FrontEnd {
   int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
   WaterContrast contrast;            ///< learned source: the searched image's water, contrast, spread and saliency
   std::vector<Candidate> candidates;
+  /// learned source: for each candidate, the view measured in its place when the check turns it down
+  /// (LearnedSearch::second_views; empty otherwise)
+  std::vector<std::optional<Candidate>> second_views;
   std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
 };
 
@@ -288,6 +291,10 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     for (Candidate& c : found.candidates) {
       out.candidates.push_back(toFullResolution(std::move(c), out.scale, frame.size()));
     }
+    for (std::optional<Candidate>& c : found.second_views) {
+      out.second_views.push_back(c ? std::optional<Candidate>(toFullResolution(std::move(*c), out.scale, frame.size()))
+                                   : std::nullopt);
+    }
     for (Rejection& r : found.rejected) {
       r.roi = scaledRect(r.roi, 1.0 / out.scale);
       out.rejected.push_back(std::move(r));
@@ -463,7 +470,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   }
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front =
+  FrontEnd front =
       runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
   result.quality = front.quality;
   result.search_scale = front.scale;
@@ -522,6 +529,37 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     const int k = order[i];
     found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k], check_use);
   });
+  // A candidate turned down after stereo gives way to the most confident view skipped as the same object (its own
+  // piece where it was a region of it and what it touches), unless that view is another detection's object.
+  std::vector<int> retried;
+  for (int k = 0; k < static_cast<int>(front.second_views.size()); ++k) {
+    if (found[k] || !turnedDownByStereo(why[k].stage) || !front.second_views[k]) continue;
+    const Candidate& view = *front.second_views[k];
+    const bool taken = std::any_of(order.begin(), order.end(), [&](int j) {
+      return found[j] && sameRegion(front.candidates[j].roi, front.candidates[j].mask, view.roi, view.mask,
+                                    config_.learned.max_overlap);
+    });
+    if (!taken) retried.push_back(k);
+  }
+  const int m = static_cast<int>(retried.size());
+  std::vector<std::optional<Detection>> second(m);
+  std::vector<StageTimings> second_times(m);
+  std::vector<Rejection> second_why(m);
+  evidence.resize(n + m);
+  workOnThreads(m, config_.pair_threads, [&](int i) {
+    second[i] = measureOne(*front.second_views[retried[i]], second_times[i], second_why[i], &evidence[n + i], check_use);
+  });
+  for (int i = 0; i < m; ++i) {
+    const int k = retried[i];
+    addObjectStages(result.timings, second_times[i]);
+    if (!second[i]) {
+      result.rejected.push_back(std::move(second_why[i]));
+      continue;
+    }
+    result.rejected.push_back(std::move(why[k]));
+    found[k] = std::move(second[i]);
+    front.candidates[k] = std::move(*front.second_views[retried[i]]);
+  }
   const PairOrder pair_order = pairOrder(evidence);
   result.looks_swapped = pair_order.looksSwapped();
   if (result.looks_swapped) {

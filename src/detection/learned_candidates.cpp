@@ -17,6 +17,11 @@ namespace {
 /// Rejections are reported for proposals whose best colour got at least this share of the needed votes.
 constexpr double kExplainShare = 0.5;
 
+/// A view skipped as the same object as a candidate is its second view (LearnedSearch::second_views) only when their
+/// boxes overlap less than this (intersection over union): a view of nearly the same box is the same measurement,
+/// which the check would judge again at nearly the same score.
+constexpr double kSecondViewMaxIou = 0.7;
+
 /// Median of `values` (CV_32F) under `mask`.
 double medianUnder(const cv::Mat& values, const cv::Mat& mask) {
   std::vector<float> v;
@@ -130,6 +135,10 @@ std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const st
 }
 
 }  // namespace
+
+bool turnedDownByStereo(RejectionStage stage) {
+  return stage >= RejectionStage::kTooFewPoints && stage <= RejectionStage::kCheckAfterStereo;
+}
 
 std::string rejectionStageName(RejectionStage stage) {
   switch (stage) {
@@ -246,16 +255,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   }
   std::stable_sort(named.begin(), named.end(),
                    [](const Named& a, const Named& b) { return a.verdict.confidence > b.verdict.confidence; });
-  for (Named& n : named) {
-    const bool same_object = std::any_of(out.candidates.begin(), out.candidates.end(), [&](const Candidate& kept) {
-      return sameRegion(kept.roi, kept.mask, n.proposal.roi, n.proposal.mask, config.max_overlap);
-    });
-    if (same_object) continue;  // a weaker view of an object already taken: not a rejection
-    if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {
-      out.rejected.push_back({n.proposal.roi, config.model->colours()[n.verdict.colour], n.verdict.confidence,
-                              RejectionStage::kTooManyCandidates, "more than candidates.max_candidates"});
-      continue;
-    }
+  const auto candidateOf = [&](Named& n) {
     if (!n.proposal.piece) cutAtItsEdge(out.contrast, n.proposal);  // cut again at its saliency, a piece joins its neighbour
     Candidate c;
     c.colour_index = designated[n.verdict.colour];
@@ -272,7 +272,26 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     c.colour_features = std::move(n.proposal.features);
     c.colour_features.insert(c.colour_features.end(), n.verdict.shares.begin(), n.verdict.shares.end());
     c.contour = std::move(n.proposal.contour);
-    out.candidates.push_back(std::move(c));
+    return c;
+  };
+  for (Named& n : named) {
+    const auto same_object = std::find_if(out.candidates.begin(), out.candidates.end(), [&](const Candidate& kept) {
+      return sameRegion(kept.roi, kept.mask, n.proposal.roi, n.proposal.mask, config.max_overlap);
+    });
+    if (same_object != out.candidates.end()) {  // a weaker view of an object already taken: not a rejection
+      std::optional<Candidate>& second = out.second_views[same_object - out.candidates.begin()];
+      const cv::Rect& kept = same_object->roi;
+      const double iou = static_cast<double>((kept & n.proposal.roi).area()) / (kept | n.proposal.roi).area();
+      if (!second && iou < kSecondViewMaxIou) second = candidateOf(n);
+      continue;
+    }
+    if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {
+      out.rejected.push_back({n.proposal.roi, config.model->colours()[n.verdict.colour], n.verdict.confidence,
+                              RejectionStage::kTooManyCandidates, "more than candidates.max_candidates"});
+      continue;
+    }
+    out.candidates.push_back(candidateOf(n));
+    out.second_views.emplace_back();
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,6 +71,9 @@ enum class RejectionStage {
 };
 constexpr int kRejectionStageCount = static_cast<int>(RejectionStage::kPieceOfObject) + 1;
 
+/// Whether `stage` turned a region down after it was measured in 3D (kTooFewPoints to kCheckAfterStereo).
+bool turnedDownByStereo(RejectionStage stage);
+
 /// Short name of a stage ("colour uncertain", "too few 3D points"...).
 std::string rejectionStageName(RejectionStage stage);
 
@@ -87,6 +91,10 @@ struct Rejection {
 struct LearnedSearch {
   WaterContrast contrast;  ///< of the searched image (its stats measure the right frame alike)
   std::vector<Candidate> candidates;  ///< most confident first, at most candidates.max_candidates
+  /// For each candidate, the most confident view skipped as the same object (sameRegion), if any: what the detector
+  /// measures in its place when the candidate is turned down after stereo (turnedDownByStereo: a region of an object
+  /// and what it touches, turned down, while the object's own piece or region was skipped as part of it).
+  std::vector<std::optional<Candidate>> second_views;
   std::vector<Rejection> rejected;    ///< proposals some colour got votes for, not reported (searched-image pixels)
 };
 
