@@ -72,22 +72,54 @@ TEST(RandomisedRegression, APairThatFailsIsNamedAndTheOthersAreKept) {
 
 namespace {
 
-/// Detects validation pair `seed` with the default configuration and expects its object `name` found once, with no
-/// false detection in the pair, a piece of it in `colour` rejected as such, and the whole at least as sure as it.
-void expectOnePieceJoined(std::uint64_t seed, const std::string& name, const std::string& colour) {
-  SCOPED_TRACE("seed " + std::to_string(seed));
+/// A validation pair detected with the default configuration and scored against its truth.
+struct ScoredPair {
+  DetectionResult result;
+  tools::PairRecord record;
+
+  /// The record of the scene's object `name` (nullptr when the scene has none).
+  const tools::ObjectRecord* object(const std::string& name) const {
+    const auto o = std::find_if(record.objects.begin(), record.objects.end(),
+                                [&](const tools::ObjectRecord& r) { return r.name == name; });
+    return o == record.objects.end() ? nullptr : &*o;
+  }
+};
+
+ScoredPair detectSampledPair(std::uint64_t seed) {
   const sim::SampledScene sampled = sim::sampleScene(seed);
   const sim::Renderer head(sampled.scene);
   const sim::RenderedPair pair = head.render(0.0, 0);
   const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
-  const DetectionResult result = detector.detect(left, right);
-  const tools::PairRecord r = tools::evaluatePair(sampled, pair, result, sim::meanLuma(left.bgr()));
-  const auto object = std::find_if(r.objects.begin(), r.objects.end(),
-                                   [&](const tools::ObjectRecord& o) { return o.name == name; });
-  ASSERT_NE(object, r.objects.end());
+  ScoredPair out;
+  out.result = detector.detect(left, right);
+  out.record = tools::evaluatePair(sampled, pair, out.result, sim::meanLuma(left.bgr()));
+  return out;
+}
+
+/// Expects object `name` of `p` eligible, found, named `colour` and within 3 % of its range, and no false detection in
+/// the pair.
+void expectFoundAlone(const ScoredPair& p, const std::string& name, const std::string& colour) {
+  const tools::ObjectRecord* object = p.object(name);
+  ASSERT_NE(object, nullptr) << name;
+  ASSERT_TRUE(object->eligible);
+  ASSERT_TRUE(object->found);
+  EXPECT_EQ(object->detected_colour, colour);
+  EXPECT_LT(std::abs(object->range_error), 0.03);
+  EXPECT_TRUE(p.record.false_detections.empty()) << p.record.false_detections.size() << " false";
+}
+
+/// Detects validation pair `seed` with the default configuration and expects its object `name` found once, with no
+/// false detection in the pair, a piece of it in `colour` rejected as such, and the whole at least as sure as it.
+void expectOnePieceJoined(std::uint64_t seed, const std::string& name, const std::string& colour) {
+  SCOPED_TRACE("seed " + std::to_string(seed));
+  const ScoredPair p = detectSampledPair(seed);
+  const DetectionResult& result = p.result;
+  const tools::ObjectRecord* object = p.object(name);
+  ASSERT_NE(object, nullptr);
   EXPECT_TRUE(object->found);
-  EXPECT_TRUE(r.false_detections.empty()) << r.false_detections.size() << " false, e.g. a second detection of " << name;
+  EXPECT_TRUE(p.record.false_detections.empty())
+      << p.record.false_detections.size() << " false, e.g. a second detection of " << name;
   const auto piece = std::find_if(result.rejected.begin(), result.rejected.end(), [&](const Rejection& j) {
     return j.stage == RejectionStage::kPieceOfObject && j.colour == colour;
   });
@@ -118,25 +150,11 @@ TEST(RandomisedRegression, PiecesTheCheckPassedAreJoinedWhateverItThinksOfTheWho
 
 // A yellow ball at 2.9 m in front of a purple tube (validation seed 60297) makes one region with it at every saliency
 // level, which the colour model names red (0.56 of the votes) and the check after stereo turns down; cut along the
-// image's steps, the ball's piece is named yellow with all the votes and the tube's piece nothing. A piece named a colour other than its region's is
-// proposed besides it, so the ball is found, yellow and within 3 % of its range (missed with "no votes" when only a
-// region holding pieces of two named colours gave way to them).
+// image's steps, the ball's piece is named yellow with all the votes and the tube's piece nothing. A piece named a
+// colour other than its region's is proposed besides it, so the ball is found, yellow and within 3 % of its range
+// (missed with "no votes" when only a region holding pieces of two named colours gave way to them).
 TEST(RandomisedRegression, APieceNamedOtherThanItsRegionIsProposed) {
-  const sim::SampledScene sampled = sim::sampleScene(60297);
-  const sim::Renderer head(sampled.scene);
-  const sim::RenderedPair pair = head.render(0.0, 0);
-  const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
-  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
-  const tools::PairRecord r =
-      tools::evaluatePair(sampled, pair, detector.detect(left, right), sim::meanLuma(left.bgr()));
-  const auto ball = std::find_if(r.objects.begin(), r.objects.end(),
-                                 [](const tools::ObjectRecord& o) { return o.name == "yellow_sphere_1"; });
-  ASSERT_NE(ball, r.objects.end());
-  ASSERT_TRUE(ball->eligible);
-  ASSERT_TRUE(ball->found);
-  EXPECT_EQ(ball->detected_colour, "yellow");
-  EXPECT_LT(std::abs(ball->range_error), 0.03);
-  EXPECT_TRUE(r.false_detections.empty()) << r.false_detections.size() << " false";
+  expectFoundAlone(detectSampledPair(60297), "yellow_sphere_1", "yellow");
 }
 
 // An orange box at 1.6 m (validation seed 60187) and what lies behind it make one region, named orange (0.62), whose
@@ -145,23 +163,11 @@ TEST(RandomisedRegression, APieceNamedOtherThanItsRegionIsProposed) {
 // (LearnedSearch::second_views), so the box is found, orange and within 3 % of its range, while the region stays
 // among the rejections with why (missed before).
 TEST(RandomisedRegression, ARegionTurnedDownAfterStereoGivesWayToItsObjectsOwnView) {
-  const sim::SampledScene sampled = sim::sampleScene(60187);
-  const sim::Renderer head(sampled.scene);
-  const sim::RenderedPair pair = head.render(0.0, 0);
-  const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
-  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
-  const DetectionResult result = detector.detect(left, right);
-  const tools::PairRecord r = tools::evaluatePair(sampled, pair, result, sim::meanLuma(left.bgr()));
-  const auto box = std::find_if(r.objects.begin(), r.objects.end(),
-                                [](const tools::ObjectRecord& o) { return o.name == "orange_box_1"; });
-  ASSERT_NE(box, r.objects.end());
-  ASSERT_TRUE(box->eligible);
-  ASSERT_TRUE(box->found);
-  EXPECT_EQ(box->detected_colour, "orange");
-  EXPECT_LT(std::abs(box->range_error), 0.03);
-  EXPECT_TRUE(r.false_detections.empty()) << r.false_detections.size() << " false";
-  const cv::Rect found = box->detected_roi;
-  EXPECT_TRUE(std::any_of(result.rejected.begin(), result.rejected.end(), [&](const Rejection& j) {
+  const ScoredPair p = detectSampledPair(60187);
+  expectFoundAlone(p, "orange_box_1", "orange");
+  ASSERT_NE(p.object("orange_box_1"), nullptr);
+  const cv::Rect found = p.object("orange_box_1")->detected_roi;
+  EXPECT_TRUE(std::any_of(p.result.rejected.begin(), p.result.rejected.end(), [&](const Rejection& j) {
     return j.stage == RejectionStage::kTooFewPoints && j.colour == "orange" && (j.roi & found) == found;
   })) << "the turned-down region holding the box is not among the rejections";
 }
