@@ -46,7 +46,7 @@ struct FrontEnd {
   int saturation_median = 0;         ///< its median HSV saturation (sets the adaptive saturation floors)
   WaterContrast contrast;            ///< learned source: the searched image's water, contrast, spread and saliency
   std::vector<Candidate> candidates;
-  /// learned source: for each candidate, the view measured in its place when the check turns it down
+  /// learned source: for each candidate, the view measured in its place when it is turned down after stereo
   /// (LearnedSearch::second_views; empty otherwise)
   std::vector<std::optional<Candidate>> second_views;
   std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
