@@ -85,11 +85,6 @@ cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string&
 
 }  // namespace
 
-double boxIou(const cv::Rect& a, const cv::Rect& b) {
-  const double inter = (a & b).area();
-  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
-}
-
 bool centreInside(const cv::Rect& roi, const cv::Rect& box) {
   const cv::Point2d c(roi.x + roi.width / 2.0, roi.y + roi.height / 2.0);
   return c.x >= box.x && c.x <= box.br().x && c.y >= box.y && c.y <= box.br().y;

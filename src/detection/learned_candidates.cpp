@@ -155,6 +155,11 @@ std::string rejectionStageName(RejectionStage stage) {
   return "?";
 }
 
+double boxIou(const cv::Rect& a, const cv::Rect& b) {
+  const double inter = (a & b).area();
+  return inter / std::max(1.0, double(a.area()) + b.area() - inter);
+}
+
 double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b) {
   const double inter = (a & b).area();
   return inter / std::max(1, std::min(a.area(), b.area()));
@@ -280,9 +285,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     });
     if (same_object != out.candidates.end()) {  // a weaker view of an object already taken: not a rejection
       std::optional<Candidate>& second = out.second_views[same_object - out.candidates.begin()];
-      const cv::Rect& kept = same_object->roi;
-      const double iou = static_cast<double>((kept & n.proposal.roi).area()) / (kept | n.proposal.roi).area();
-      if (!second && iou < kSecondViewMaxIou) second = candidateOf(n);
+      if (!second && boxIou(same_object->roi, n.proposal.roi) < kSecondViewMaxIou) second = candidateOf(n);
       continue;
     }
     if (out.candidates.size() >= static_cast<std::size_t>(candidates.max_candidates)) {

@@ -12,6 +12,7 @@
 #include "underwater_stereo/detection/colour_model.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/detector_config.h"
+#include "underwater_stereo/detection/learned_candidates.h"
 
 namespace underwater_stereo {
 
@@ -23,9 +24,6 @@ struct LabelBox {
 
 /// A proposal is an example of a labelled object (and covers it) when their boxes overlap by this much.
 constexpr double kMatchIou = 0.3;
-
-/// Intersection over union of two boxes.
-double boxIou(const cv::Rect& a, const cv::Rect& b);
 
 /// Whether the centre of `roi` lies in `box` (edges included): how a detection finds a label.
 bool centreInside(const cv::Rect& roi, const cv::Rect& box);

@@ -49,6 +49,8 @@ struct LearnedColourConfig {
   std::vector<std::string> validate() const;
 };
 
+/// Intersection over union of two boxes.
+double boxIou(const cv::Rect& a, const cv::Rect& b);
 /// Intersection over the smaller box's area.
 double overlapOfSmaller(const cv::Rect& a, const cv::Rect& b);
 /// Whether two regions (boxes and their CV_8UC1 box-sized masks, in one image) are views of one object: their
