@@ -7,9 +7,13 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <limits>
+
+#include <jpeglib.h>
 
 #include "underwater_stereo/common/calibration_yaml.h"
 #include "underwater_stereo/detection/detector.h"
@@ -131,10 +135,19 @@ TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
   // OpenCV's own IMREAD_COLOR of a 0..1 float TIFF is not linear (a mid grey comes out far brighter); its TIFF
   // writer stores three float channels as LogLuv, within about 1 %.
   EXPECT_LE(cv::norm(readImageFile(tempFile("float.tiff", encodedImage(".tiff", floating))), eight, cv::NORM_INF), 5.0);
-  const cv::Mat over = readImageFile(tempFile("over.tiff", encodedImage(".tiff", floating * 4.0)));
-  // Over 1 (eight >= 64, with the LogLuv margin: 70) is white; under it (<= 58) is not.
-  EXPECT_EQ(cv::countNonZero((eight.reshape(1) >= 70) & (over.reshape(1) != 255)), 0);
-  EXPECT_EQ(cv::countNonZero((eight.reshape(1) <= 58) & (over.reshape(1) == 255)), 0);
+  const cv::Mat over = readImageFile(tempFile("over.tiff", encodedImage(".tiff", floating * 1.5)));
+  // Over 1 (eight >= 170, with the LogLuv margin: 176) is white; under it (<= 165) is not.
+  EXPECT_EQ(cv::countNonZero((eight.reshape(1) >= 176) & (over.reshape(1) != 255)), 0);
+  EXPECT_EQ(cv::countNonZero((eight.reshape(1) <= 165) & (over.reshape(1) == 255)), 0);
+  // An image scaled 0..255 (its median pixel far over 1) would read nearly all white: refused, saying why.
+  const std::string scaled = tempFile("scaled.tiff", encodedImage(".tiff", floating * 255.0));
+  EXPECT_NE(messageOf([&] { readImageFile(scaled); }).find(scaled + ": a floating-point image whose median pixel is"),
+            std::string::npos);
+  // Signed integers are refused by the reader, naming the file, whatever their channels.
+  cv::Mat signed_grey(48, 64, CV_32SC1, cv::Scalar(7));
+  const std::string ints = tempFile("int32.tiff", encodedImage(".tiff", signed_grey));
+  EXPECT_NE(messageOf([&] { readImageFile(ints); }).find(ints + ": pixels of OpenCV depth 4 (signed integers)"),
+            std::string::npos);
   cv::Mat with_nan(48, 64, CV_32F, cv::Scalar(0.5));  // one channel: stored as plain floats, NaN kept
   with_nan.at<float>(3, 4) = std::numeric_limits<float>::quiet_NaN();
   const std::string nan = tempFile("nan.tiff", encodedImage(".tiff", with_nan));
@@ -146,6 +159,41 @@ TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
   EXPECT_EQ(read_grey.type(), CV_8UC3);
   EXPECT_TRUE(isGreyImage(read_grey));
   EXPECT_FALSE(isGreyImage(eight));
+}
+
+TEST(ImageFile, ACmykJpegIsReadAsOpenCvReadsIt) {
+  // Written by libjpeg itself (OpenCV writes no CMYK): every pixel C 0, M 128, Y 255, K 0 as libjpeg stores CMYK.
+  constexpr int kWidth = 48, kHeight = 40;
+  std::vector<unsigned char> row(4 * kWidth);
+  for (int x = 0; x < kWidth; ++x) {
+    row[4 * x] = 255, row[4 * x + 1] = 128, row[4 * x + 2] = 0, row[4 * x + 3] = 255;
+  }
+  jpeg_compress_struct cinfo;
+  jpeg_error_mgr errors;
+  cinfo.err = jpeg_std_error(&errors);
+  jpeg_create_compress(&cinfo);
+  unsigned char* buffer = nullptr;
+  unsigned long size = 0;
+  jpeg_mem_dest(&cinfo, &buffer, &size);
+  cinfo.image_width = kWidth;
+  cinfo.image_height = kHeight;
+  cinfo.input_components = 4;
+  cinfo.in_color_space = JCS_CMYK;
+  jpeg_set_defaults(&cinfo);
+  jpeg_start_compress(&cinfo, TRUE);
+  while (cinfo.next_scanline < cinfo.image_height) {
+    JSAMPROW r = row.data();
+    jpeg_write_scanlines(&cinfo, &r, 1);
+  }
+  jpeg_finish_compress(&cinfo);
+  const std::string bytes(reinterpret_cast<const char*>(buffer), size);
+  jpeg_destroy_compress(&cinfo);
+  std::free(buffer);
+  const std::string path = tempFile("cmyk.jpg", bytes);
+  const cv::Mat opencv = cv::imread(path, cv::IMREAD_COLOR);
+  ASSERT_EQ(opencv.size(), cv::Size(kWidth, kHeight));
+  const cv::Mat read = readImageFile(path);
+  EXPECT_EQ(cv::norm(read, opencv, cv::NORM_INF), 0.0);
 }
 
 TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {

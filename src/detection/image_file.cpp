@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
@@ -64,7 +65,10 @@ std::string jpegProblem(const unsigned char* data, std::size_t size, StrictJpegE
     jpeg_destroy_decompress(&cinfo);
     return "";  // the caller reports the size
   }
-  cinfo.out_color_space = JCS_GRAYSCALE;  // only the data's integrity matters here: the cheapest output
+  // Only the data's integrity matters here: the cheapest output libjpeg converts to (grey; a CMYK or YCCK file only
+  // decodes to CMYK).
+  const bool cmyk = cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK;
+  cinfo.out_color_space = cmyk ? JCS_CMYK : JCS_GRAYSCALE;
   jpeg_start_decompress(&cinfo);
   errors.row.resize(static_cast<std::size_t>(cinfo.output_width) * cinfo.output_components);
   while (cinfo.output_scanline < cinfo.output_height) {
@@ -80,10 +84,24 @@ std::uint32_t bigEndian32(const unsigned char* p) {
   return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
 }
 
+/// The median of all of `image`'s values (every channel; floating point).
+double medianValue(const cv::Mat& image) {
+  std::vector<double> v;
+  (image.isContinuous() ? image : image.clone()).reshape(1, 1).convertTo(v, CV_64F);
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 /// `image` (as decoded: any depth, 1, 3 or 4 channels) as 8-bit BGR: grey repeated in three channels, alpha dropped,
 /// 16-bit scaled by 1/257 (65535 -> 255), floating point read as brightness 0..1 (clipped: a high-dynamic-range
-/// frame's highlights are white, as a camera sees them); anything else is refused naming `path`.
+/// frame's highlights are white, as a camera sees them; one whose median pixel exceeds 1 was scaled otherwise and is
+/// refused); anything else is refused naming `path`.
 cv::Mat asBgr8(const cv::Mat& image, const std::string& path) {
+  const int depth = image.depth();
+  if (depth != CV_8U && depth != CV_16U && depth != CV_32F && depth != CV_64F) {
+    throw std::invalid_argument(path + ": pixels of OpenCV depth " + std::to_string(depth) +
+                                " (signed integers): only 8- or 16-bit unsigned or floating-point images are read");
+  }
   cv::Mat bgr;
   switch (image.channels()) {
     case 1: cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR); break;
@@ -98,11 +116,15 @@ cv::Mat asBgr8(const cv::Mat& image, const std::string& path) {
     case CV_32F:
     case CV_64F:
       if (!cv::checkRange(bgr)) throw std::invalid_argument(path + ": a floating-point image with NaN or infinite pixels");
+      if (const double median = medianValue(bgr); median > 1.0) {
+        throw std::invalid_argument(path + ": a floating-point image whose median pixel is " + std::to_string(median) +
+                                    ": read as brightness 0..1, so it would be nearly all white (scaled 0..255 or "
+                                    "0..65535? divide it by its white level)");
+      }
       bgr.convertTo(out, CV_8U, 255.0);  // saturating
       return out;
-    default:
-      throw std::invalid_argument(path + ": pixels of OpenCV depth " + std::to_string(bgr.depth()) +
-                                  " (signed integers): only 8- or 16-bit unsigned or floating-point images are read");
+    default:  // refused above
+      throw std::logic_error("asBgr8: depth " + std::to_string(bgr.depth()));
   }
 }
 

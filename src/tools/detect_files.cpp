@@ -44,7 +44,8 @@ const char* kUsage =
     "(or that differs from the calibration's), are reported on stderr naming the file and skipped; the other\n"
     "frames are still reported and the exit status is then 1. Bad options, configuration or calibration:\n"
     "exit 2, nothing processed. An unexpected internal error: exit 3. 16-bit images are read scaled to 8 bits,\n"
-    "floating-point ones (TIFF) as brightness 0..1; a grey image is searched and said on stderr to hold no colour.\n";
+    "floating-point ones (TIFF) as brightness 0..1 (one whose median pixel exceeds 1 is skipped as scaled\n"
+    "otherwise); CMYK JPEGs as OpenCV reads them; a grey image is searched and said on stderr to hold no colour.\n";
 
 struct Options {
   std::string config, left_info, right_info, list;
