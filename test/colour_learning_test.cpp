@@ -2,6 +2,7 @@
 // Learning colours from labelled frames: a known colour model is recovered from synthetic frames; bad labels
 // are named with file and box; a learnt model loads through the config validator.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <yaml-cpp/yaml.h>
 
 #include <opencv2/imgproc.hpp>
@@ -258,6 +259,10 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   const std::string not_voc = writeTemp("not_voc.xml", "hello");
   EXPECT_NE(messageOf([&] { readVocLabels(not_voc); }).find("not a Pascal VOC annotation"), std::string::npos);
   EXPECT_NE(messageOf([&] { readVocLabels(::testing::TempDir() + "absent.xml"); }).find("cannot be read"), std::string::npos);
+  const std::string folder = ::testing::TempDir() + "folder.xml";
+  ::mkdir(folder.c_str(), 0700);
+  EXPECT_NE(messageOf([&] { readVocLabels(folder); }).find(folder + ": cannot be read"), std::string::npos)
+      << messageOf([&] { readVocLabels(folder); });
   // XML's own rules: a commented-out object is no object, attributes are allowed, a <part>'s box is the part's.
   const std::string box = "<bndbox><xmin>10</xmin><ymin>5</ymin><xmax>30</xmax><ymax>25</ymax></bndbox>";
   const std::string xml_rules = writeTemp("rules.xml", "<annotation><!-- <object><name>green</name>" + box +
@@ -298,6 +303,13 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
   const std::vector<std::string> problems = red_as_background.validate();
   ASSERT_EQ(problems.size(), 1U);
   EXPECT_NE(problems[0].find("background label 'buoy_red' names the colour red"), std::string::npos) << problems[0];
+  // A colour named twice (or not at all) is refused as such, not as a colour without examples.
+  LearningOptions doubled = options();
+  doubled.colours = {"red", "green", "red", ""};
+  const std::vector<std::string> named_twice = doubled.validate();
+  ASSERT_EQ(named_twice.size(), 2U);
+  EXPECT_EQ(named_twice[0], "colour 'red' is named twice");
+  EXPECT_EQ(named_twice[1], "colour 4 has no name");
 }
 
 TEST(ColourLearning, AnAnnotationsDeclaredSizeMustBeItsImages) {

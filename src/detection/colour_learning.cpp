@@ -95,7 +95,12 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
   // XML's business (a search took a commented-out object, skipped <object id="0">, took a part's box).
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot be read");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  } catch (const std::exception& e) {  // libstdc++ throws reading a directory
+    throw std::invalid_argument(path + ": cannot be read (" + e.what() + ")");
+  }
   const std::string not_voc = path + ": not a Pascal VOC annotation (no <annotation> element)";
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
@@ -153,6 +158,13 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
 std::vector<std::string> LearningOptions::validate() const {
   std::vector<std::string> p = training.validate();
   if (colours.empty()) p.push_back("no colours to learn");
+  for (std::size_t k = 0; k < colours.size(); ++k) {
+    if (colours[k].empty()) p.push_back("colour " + std::to_string(k + 1) + " has no name");
+    if (std::find(colours.begin(), colours.begin() + static_cast<std::ptrdiff_t>(k), colours[k]) !=
+        colours.begin() + static_cast<std::ptrdiff_t>(k)) {
+      p.push_back("colour '" + colours[k] + "' is named twice");
+    }
+  }
   if (min_label_px < 1) p.push_back("min_label_px must be >= 1");
   if (augment < 0 || augment > 20) p.push_back("augment must be in [0, 20]");
   if (zoom < 0 || zoom > 20) p.push_back("zoom must be in [0, 20]");
