@@ -140,6 +140,13 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   std::ofstream(path("quote.txt")) << "\"" << path("left.png") << "\n";
   EXPECT_NE(firstLine("--list " + path("quote.txt")).find(path("quote.txt") + ":1: a double quote not closed"),
             std::string::npos) << firstLine("--list " + path("quote.txt"));
+  // An empty quoted path (a stereo line would have become a 2D frame) and a NUL byte are named too.
+  std::ofstream(path("empty_path.txt")) << path("left.png") << " \"\"\n";
+  EXPECT_NE(firstLine("--list " + path("empty_path.txt")).find(path("empty_path.txt") + ":1: an empty path"),
+            std::string::npos) << firstLine("--list " + path("empty_path.txt"));
+  std::ofstream(path("nul.txt")) << path("left.png") << std::string(1, '\0') << "junk\n";
+  EXPECT_NE(firstLine("--list " + path("nul.txt")).find(path("nul.txt") + ":1: a NUL byte"), std::string::npos)
+      << firstLine("--list " + path("nul.txt"));
   // An option of one value given twice: refused, not the last one taken (the first list's frames were dropped).
   EXPECT_NE(firstLine("--list " + path("pairs.txt") + " --list " + path("pairs.txt")).find("--list is given twice"),
             std::string::npos);

@@ -129,20 +129,26 @@ Options parse(int argc, char** argv) {
       if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark, not a path
       if (!line.empty() && line.back() == '\r') line.pop_back();          // a list written on Windows
       if (line.empty() || line[0] == '#') continue;
-      if (unclosedQuote(line)) throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": a double quote not closed");
-      std::istringstream words(line);
-      std::string a, b, extra;
-      words >> std::quoted(a) >> std::quoted(b) >> std::quoted(extra);  // "a path with spaces" in double quotes
-      if (a.empty()) continue;
-      if (!extra.empty()) {
-        throw std::invalid_argument(o.list + ":" + std::to_string(n) + ": more than two files (a path with spaces "
-                                    "goes in double quotes)");
+      const std::string where = o.list + ":" + std::to_string(n);
+      if (unclosedQuote(line)) throw std::invalid_argument(where + ": a double quote not closed");
+      if (line.find('\0') != std::string::npos) throw std::invalid_argument(where + ": a NUL byte (no path holds one)");
+      std::istringstream in_line(line);
+      std::vector<std::string> words;
+      for (std::string w; in_line >> std::ws && !in_line.eof() && in_line >> std::quoted(w);) {
+        words.push_back(w);  // "a path with spaces" in double quotes
       }
-      if (b.empty()) {
-        o.images.push_back(a);
+      if (words.empty()) continue;
+      if (std::find(words.begin(), words.end(), std::string()) != words.end()) {
+        throw std::invalid_argument(where + ": an empty path (\"\")");
+      }
+      if (words.size() > 2) {
+        throw std::invalid_argument(where + ": more than two files (a path with spaces goes in double quotes)");
+      }
+      if (words.size() == 1) {
+        o.images.push_back(words[0]);
       } else {
-        o.left.push_back(a);
-        o.right.push_back(b);
+        o.left.push_back(words[0]);
+        o.right.push_back(words[1]);
       }
     }
     if (o.images.size() + o.left.size() == listed) {
