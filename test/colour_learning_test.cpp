@@ -156,6 +156,18 @@ TEST(ColourLearning, BoostedTreesDecideAndTravelWithTheModelFile) {
   std::ofstream(path) << corrupt;
   const std::string refused = messageOf([&] { ColourModel::load(path); });
   EXPECT_NE(refused.find("colour model " + path + ": boosted trees: a node votes 7.5"), std::string::npos) << refused;
+  // A gzipped model cut short (OpenCV would read what is left without a word) is refused; whole, it is read.
+  const std::string gz = ::testing::TempDir() + "boosted.colour_model.yml.gz";
+  model.save(gz);
+  EXPECT_TRUE(ColourModel::load(gz).hasObjectTrees());
+  std::stringstream packed;
+  packed << std::ifstream(gz, std::ios::binary).rdbuf();
+  for (const std::size_t cut : {std::size_t{12}, packed.str().size() / 2}) {
+    std::ofstream(gz, std::ios::binary) << packed.str().substr(0, packed.str().size() - cut);
+    const std::string short_file = messageOf([&] { ColourModel::load(gz); });
+    EXPECT_NE(short_file.find("colour model " + gz + ": unreadable (gzip: unexpected end of file"), std::string::npos)
+        << "cut " << cut << ": " << short_file;
+  }
 
   o.training.boosted.depth = 0;
   const std::string bad = messageOf([&] { learnt(train, o); });

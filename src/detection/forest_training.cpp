@@ -1,11 +1,39 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/detection/forest_training.h"
 
+#include <zlib.h>
+
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <stdexcept>
 
 namespace underwater_stereo {
+namespace {
+
+/// What is wrong with the gzip file at `path` ("" when it is whole, or not gzip): OpenCV reads a gzipped model cut
+/// short without a word (a tree cut off at its last node, or dropped), so the file is decompressed once to its end,
+/// where zlib checks its length and CRC.
+std::string gzipProblem(const std::string& path) {
+  std::array<unsigned char, 2> magic{};
+  std::ifstream in(path, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(magic.data()), 2) || magic[0] != 0x1f || magic[1] != 0x8b) return "";
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) return "cannot be opened";
+  std::array<char, 1 << 16> buffer;
+  int n = 0;
+  while ((n = gzread(file, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
+  }
+  int error = Z_OK;
+  std::string problem = gzerror(file, &error);
+  if (error == Z_OK && n == 0) problem.clear();
+  if (problem.rfind(path + ": ", 0) == 0) problem.erase(0, path.size() + 2);  // zlib names the file; the caller does
+  const int closed = gzclose_r(file);
+  if (problem.empty() && closed != Z_OK) problem = closed == Z_BUF_ERROR ? "unexpected end of file" : "cannot be read";
+  return problem;
+}
+
+}  // namespace
 
 std::vector<std::string> ForestTraining::validate() const {
   std::vector<std::string> p;
@@ -29,6 +57,9 @@ cv::Ptr<cv::ml::RTrees> trainForest(const cv::Mat& samples, const cv::Mat& respo
 
 cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
   if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
+  if (const std::string problem = gzipProblem(path); !problem.empty()) {
+    throw std::invalid_argument(named + ": unreadable (gzip: " + problem + "; cut short or corrupt?)");
+  }
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ);
