@@ -282,6 +282,23 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
               std::string::npos)
         << readText(dir / "learn.log");
   }
+  // A flag that is neither true nor false (it would have dropped the object without a word), and two records files
+  // joined into one (only the first would have been read).
+  std::ofstream(dir / "maybe.json")
+      << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 6, \"objects\": [{\"name\": \"a\", "
+         "\"eligible\": \"maybe\", \"found\": true, \"designated\": true}]}]}";
+  std::ofstream(dir / "joined.json") << readText(good) << "\n" << readText(good);
+  for (const std::string& learner : learners) {
+    const std::string command = learner + " --out " + model + " ";
+    EXPECT_EQ(runTool(command + (dir / "maybe.json").string(), dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("maybe.json: seed 6: malformed record"), std::string::npos)
+        << readText(dir / "learn.log");
+    EXPECT_NE(readText(dir / "learn.log").find("\"eligible\" is neither true nor false"), std::string::npos)
+        << readText(dir / "learn.log");
+    EXPECT_EQ(runTool(command + (dir / "joined.json").string(), dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"), std::string::npos)
+        << readText(dir / "learn.log");
+  }
   // learn_checks' configuration is part of its command line: a missing one exits 2, as a bad option does.
   EXPECT_EQ(runTool(std::string(UWS_LEARN_CHECKS) + " --config /nonexistent.yaml --out " + model + " " + good,
                     dir / "learn.log"),

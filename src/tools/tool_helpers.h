@@ -202,7 +202,12 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
   }
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);  // JSON is YAML
+    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);  // JSON is YAML
+    if (documents.size() > 1) {
+      throw std::invalid_argument(path + ": " + std::to_string(documents.size()) +
+                                  " records documents one after the other (files joined?): give each file on its own");
+    }
+    if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
   }
@@ -216,6 +221,18 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
     throw std::invalid_argument(path + ": made with --swapped (pairs given the wrong way round): nothing to learn from");
   }
   return root;
+}
+
+/// A record's true/false field `key` (absent: false). @throw YAML::Exception (forEachRecordPair names the pair) when
+/// it is there but neither true nor false: a "maybe" would otherwise drop the record without a word.
+inline bool recordFlag(const YAML::Node& record, const char* key) {
+  const YAML::Node value = record[key];
+  if (!value) return false;
+  bool flag = false;
+  if (!value.IsScalar() || !YAML::convert<bool>::decode(value, flag)) {
+    throw YAML::Exception(value.Mark(), std::string("\"") + key + "\" is neither true nor false");
+  }
+  return flag;
 }
 
 /// Calls `add` with each pair of the records `root` read from `path`; a field of the wrong kind is named with the file
