@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -233,26 +234,33 @@ cv::Mat develop(cv::Mat linear_bgr, const SensorConfig& sensor, std::uint64_t no
   return sensor.encoding == "bayer_rggb8" ? mosaicRggb(bgr8) : bgr8.clone();
 }
 
+/// Every object of `scene` that holds one of `rig`'s cameras at `time_s` (Renderer::camerasInside).
+std::vector<std::string> camerasInsideObjects(const Scene& scene, const StereoRig& rig, double time_s) {
+  std::vector<std::string> problems;
+  const Eigen::Isometry3d left = cameraPose(scene.camera_motion, time_s);
+  const std::pair<const char*, Eigen::Vector3d> cameras[] = {{"left", left.translation()},
+                                                             {"right", (left * rig.rightInLeft()).translation()}};
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    const Primitive placed(o.shape, (o.position_m + displacement(o.motion, time_s)).cast<float>(),
+                           rotationFromRpyDeg(o.rpy_deg).cast<float>(), o.size_m.cast<float>());
+    for (const auto& [camera, at] : cameras) {
+      if (placed.contains(at.cast<float>())) {
+        std::ostringstream text;
+        text << "objects[" << i << "] (" << o.name << "): the " << camera << " camera lies inside it at time " << time_s
+             << " s";
+        problems.push_back(text.str());
+      }
+    }
+  }
+  return problems;
+}
+
 /// @throw std::invalid_argument listing every problem of `scene` (Scene::validate) and every object that holds a
 /// camera at time 0 (its view would be the object's inside, no picture of the scene).
 void requireRenderable(const Scene& scene, const StereoRig& rig) {
   std::vector<std::string> problems = scene.validate();
-  if (problems.empty()) {
-    const Eigen::Isometry3d left = cameraPose(scene.camera_motion, 0.0);
-    const std::pair<const char*, Eigen::Vector3d> cameras[] = {{"left", left.translation()},
-                                                               {"right", (left * rig.rightInLeft()).translation()}};
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-      const SceneObject& o = scene.objects[i];
-      const Primitive placed(o.shape, (o.position_m + displacement(o.motion, 0.0)).cast<float>(),
-                             rotationFromRpyDeg(o.rpy_deg).cast<float>(), o.size_m.cast<float>());
-      for (const auto& [camera, at] : cameras) {
-        if (placed.contains(at.cast<float>())) {
-          problems.push_back("objects[" + std::to_string(i) + "] (" + o.name + "): the " + camera +
-                             " camera lies inside it at time 0");
-        }
-      }
-    }
-  }
+  if (problems.empty()) problems = camerasInsideObjects(scene, rig, 0.0);
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
 }
 
@@ -299,7 +307,14 @@ Renderer::Renderer(Scene scene, const Renderer& rays_from) : scene_(std::move(sc
 
 Renderer Renderer::withScene(Scene scene) const { return Renderer(std::move(scene), *this); }
 
+std::vector<std::string> Renderer::camerasInside(double time_s) const {
+  return camerasInsideObjects(scene_, rig_, time_s);
+}
+
 RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {
+  if (const std::vector<std::string> inside = camerasInside(time_s); !inside.empty()) {
+    throw std::invalid_argument(joinProblems("scene '" + scene_.name + "' cannot be rendered", inside));
+  }
   const Eigen::Isometry3d left_pose = cameraPose(scene_.camera_motion, time_s);
   const Eigen::Isometry3d right_pose = left_pose * rig_.rightInLeft();
 

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/ros_glue/ground_truth_conversions.h"
 #include "underwater_stereo/sim/renderer.h"
@@ -214,8 +215,14 @@ int main(int argc, char** argv) {
     std::optional<sim::Renderer> made;
     try {  // a scene that cannot be read or rendered (a camera inside an object)
       made.emplace(sim::loadSceneFile(opt.scene));
+      // A camera that meets an object at a later frame (a moving camera or object): refused before anything is written.
+      std::vector<std::string> inside;
+      for (int k = 0; k < opt.frames; ++k) {
+        for (std::string& p : made->camerasInside(k / opt.rate_hz)) inside.push_back("frame " + std::to_string(k) + ": " + p);
+      }
+      if (!inside.empty()) throw std::invalid_argument(joinProblems("cannot be rendered", inside));
     } catch (const std::invalid_argument& e) {  // the command line named a bad scene: as a bad option
-      std::cerr << "render_scene: " << e.what() << "\n";
+      std::cerr << "render_scene: " << opt.scene << ": " << e.what() << "\n";
       return 2;
     }
     const sim::Renderer& renderer = *made;

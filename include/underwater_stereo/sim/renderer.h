@@ -33,7 +33,13 @@ class Renderer {
 
   /// Renders the pair at scene time `time_s`. `frame_index` seeds the sensor noise, so the same
   /// (time, index) gives the same images.
+  /// @throw std::invalid_argument when a camera lies inside an object then (camerasInside): its view would be the
+  /// object's inside and its ground truth the whole image.
   RenderedPair render(double time_s, std::uint64_t frame_index) const;
+
+  /// Every object that holds a camera at scene time `time_s` ("objects[i] (name): the left camera lies inside it at
+  /// time T s"): a moving camera or object may meet later than time 0, which construction checks.
+  std::vector<std::string> camerasInside(double time_s) const;
 
   /// A renderer of `scene` that shares this one's pixel rays (the costly part of construction), for many
   /// scenes seen by one head. @throw std::invalid_argument when scene.rig differs from this renderer's or
