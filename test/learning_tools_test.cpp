@@ -296,7 +296,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     EXPECT_NE(readText(dir / "learn.log").find("\"eligible\" is neither true nor false"), std::string::npos)
         << readText(dir / "learn.log");
     EXPECT_EQ(runTool(command + (dir / "joined.json").string(), dir / "learn.log"), 1) << command;
-    EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"), std::string::npos)
+    EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"),
+              std::string::npos)
         << readText(dir / "learn.log");
   }
   // learn_checks' configuration is part of its command line: a missing one exits 2, as a bad option does.

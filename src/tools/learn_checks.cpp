@@ -64,7 +64,9 @@ void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, st
   std::map<std::string, YAML::Node> objects;
   for (const YAML::Node& o : pair["objects"]) {
     objects[o["name"].as<std::string>()] = o;
-    if (!tools::recordFlag(o, "found") || !tools::recordFlag(o, "designated") || !tools::recordFlag(o, "eligible")) continue;
+    if (!tools::recordFlag(o, "found") || !tools::recordFlag(o, "designated") || !tools::recordFlag(o, "eligible")) {
+      continue;
+    }
     const auto colour = std::find(colours.begin(), colours.end(), o["colour"].as<std::string>());
     if (colour == colours.end()) continue;  // a designated colour the colour model does not name
     addSample(featuresOf(o["detected"]["check_features"], width, where), static_cast<int>(colour - colours.begin()), out);
@@ -74,7 +76,8 @@ void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, st
     const auto it = objects.find(on);
     if (!on.empty() && it == objects.end()) throw std::invalid_argument(where + ": a detection on unknown object " + on);
     const bool ineligible_target =
-        it != objects.end() && tools::recordFlag(it->second, "designated") && !tools::recordFlag(it->second, "eligible");
+        it != objects.end() && tools::recordFlag(it->second, "designated") &&
+        !tools::recordFlag(it->second, "eligible");
     if (ineligible_target) continue;  // neither a target nor a false one
     addSample(featuresOf(d["check_features"], width, where), kBackground, out);
   }

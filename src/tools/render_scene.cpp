@@ -218,7 +218,9 @@ int main(int argc, char** argv) {
       // A camera that meets an object at a later frame (a moving camera or object): refused before anything is written.
       std::vector<std::string> inside;
       for (int k = 0; k < opt.frames; ++k) {
-        for (std::string& p : made->camerasInside(k / opt.rate_hz)) inside.push_back("frame " + std::to_string(k) + ": " + p);
+        for (const std::string& p : made->camerasInside(k / opt.rate_hz)) {
+          inside.push_back("frame " + std::to_string(k) + ": " + p);
+        }
       }
       if (!inside.empty()) throw std::invalid_argument(joinProblems("cannot be rendered", inside));
     } catch (const std::invalid_argument& e) {  // the command line named a bad scene: as a bad option
