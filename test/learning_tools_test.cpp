@@ -288,6 +288,9 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 6, \"objects\": [{\"name\": \"a\", "
          "\"eligible\": \"maybe\", \"found\": true, \"designated\": true}]}]}";
   std::ofstream(dir / "joined.json") << readText(good) << "\n" << readText(good);
+  std::ofstream(dir / "twice.json")
+      << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 7, \"objects\": [{\"name\": \"a\", "
+         "\"eligible\": false, \"eligible\": true}]}]}";
   for (const std::string& learner : learners) {
     const std::string command = learner + " --out " + model + " ";
     EXPECT_EQ(runTool(command + (dir / "maybe.json").string(), dir / "learn.log"), 1) << command;
@@ -298,6 +301,9 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     EXPECT_EQ(runTool(command + (dir / "joined.json").string(), dir / "learn.log"), 1) << command;
     EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"),
               std::string::npos)
+        << readText(dir / "learn.log");
+    EXPECT_EQ(runTool(command + (dir / "twice.json").string(), dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("twice.json: keys given twice"), std::string::npos)
         << readText(dir / "learn.log");
   }
   // learn_checks' configuration is part of its command line: a missing one exits 2, as a bad option does.

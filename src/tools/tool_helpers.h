@@ -23,6 +23,8 @@
 #include <utility>
 #include <vector>
 
+#include "underwater_stereo/config/yaml_fields.h"
+
 namespace underwater_stereo {
 namespace tools {
 
@@ -193,8 +195,8 @@ inline void refuseCopies(const std::vector<std::string>& paths, const std::strin
 }
 
 /// The JSON records evaluate_detector --random --json wrote to `path` (what learn_shapes and learn_checks learn from).
-/// @throw std::invalid_argument naming the file when it is a folder, not readable, holds no "pairs" list, a "config"
-/// that is no string, or was made with --swapped.
+/// @throw std::invalid_argument naming the file when it is a folder, not readable, two documents, repeats a key, holds
+/// no "pairs" list, a "config" that is no string, or was made with --swapped.
 inline YAML::Node loadRandomRecords(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
@@ -210,6 +212,10 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
     if (!documents.empty()) root = documents.front();
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
+  }
+  // yaml-cpp keeps the first of two equal keys: a record's second "shape" or "eligible" would be dropped unseen.
+  if (const std::vector<std::string> repeated = repeatedKeys(root); !repeated.empty()) {
+    throw std::invalid_argument(joinProblems(path + ": keys given twice", repeated));
   }
   if (!root.IsMap() || !root["pairs"] || !root["pairs"].IsSequence()) {
     throw std::invalid_argument(path + ": no \"pairs\" list (not evaluate_detector --random --json records)");
