@@ -143,11 +143,16 @@ TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
   const std::string scaled = tempFile("scaled.tiff", encodedImage(".tiff", floating * 255.0));
   EXPECT_NE(messageOf([&] { readImageFile(scaled); }).find(scaled + ": a floating-point image whose median pixel is"),
             std::string::npos);
-  // Signed integers are refused by the reader, naming the file, whatever their channels.
-  cv::Mat signed_grey(48, 64, CV_32SC1, cv::Scalar(7));
-  const std::string ints = tempFile("int32.tiff", encodedImage(".tiff", signed_grey));
-  EXPECT_NE(messageOf([&] { readImageFile(ints); }).find(ints + ": pixels of OpenCV depth 4 (signed integers)"),
+  // Signed integers are refused by the reader, naming the file (OpenCV writes no three-channel ones to try).
+  const cv::Mat signed_ints(48, 64, CV_32SC1, cv::Scalar(7));
+  const std::string ints = tempFile("int32.tiff", encodedImage(".tiff", signed_ints));
+  EXPECT_NE(messageOf([&] { readImageFile(ints); }).find(ints + ": pixels of 32-bit signed integers"),
             std::string::npos);
+  // 64-bit floating-point grey (cvtColor takes no 64-bit pixels; OpenCV writes no 64-bit colour TIFF to try).
+  const cv::Mat doubles(48, 64, CV_64FC1, cv::Scalar(0.5));
+  const cv::Mat read_doubles = readImageFile(tempFile("doubles.tiff", encodedImage(".tiff", doubles)));
+  EXPECT_EQ(read_doubles.type(), CV_8UC3);
+  EXPECT_NEAR(cv::mean(read_doubles)[0], 127.5, 1.0);
   cv::Mat with_nan(48, 64, CV_32F, cv::Scalar(0.5));  // one channel: stored as plain floats, NaN kept
   with_nan.at<float>(3, 4) = std::numeric_limits<float>::quiet_NaN();
   const std::string nan = tempFile("nan.tiff", encodedImage(".tiff", with_nan));
@@ -219,7 +224,7 @@ TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {
     EXPECT_NE(m.find(expected), std::string::npos) << name << ": " << m;
   }
   EXPECT_NE(messageOf([] { readImageFile("/nonexistent/x.png"); }).find("/nonexistent/x.png: cannot open"), std::string::npos);
-  EXPECT_NE(messageOf([] { readImageFile(testing::TempDir()); }).find("cannot read the file"), std::string::npos);
+  EXPECT_NE(messageOf([] { readImageFile(testing::TempDir()); }).find(": a folder, not a file"), std::string::npos);
   // A PNG header declaring a huge image is refused before anything is decoded.
   std::string huge = png;
   huge[16] = 0x00, huge[17] = 0x01, huge[18] = 0x00, huge[19] = 0x00;  // width 65536

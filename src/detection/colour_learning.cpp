@@ -5,14 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <random>
 #include <stdexcept>
 
 #include <tinyxml2.h>
 
 #include "underwater_stereo/common/image_size.h"
+#include "underwater_stereo/common/whole_file.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detector.h"
 
@@ -93,14 +92,7 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box) {
 std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_size) {
   // An XML library, not a text search: comments, attributes, a <part>'s own <bndbox> and unclosed elements are
   // XML's business (a search took a commented-out object, skipped <object id="0">, took a part's box).
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot be read");
-  std::string text;
-  try {
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::exception& e) {  // libstdc++ throws reading a directory
-    throw std::invalid_argument(path + ": cannot be read (" + e.what() + ")");
-  }
+  const std::string text = readWholeFile(path);
   const std::string not_voc = path + ": not a Pascal VOC annotation (no <annotation> element)";
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {

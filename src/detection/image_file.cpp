@@ -8,8 +8,8 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <limits>
+#include <string>
 #include <stdexcept>
 #include <vector>
 
@@ -17,6 +17,7 @@ extern "C" {
 #include <jpeglib.h>
 }
 
+#include "underwater_stereo/common/whole_file.h"
 #include "underwater_stereo/detection/image_checks.h"
 
 namespace underwater_stereo {
@@ -84,24 +85,37 @@ std::uint32_t bigEndian32(const unsigned char* p) {
   return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
 }
 
-/// The median of all of `image`'s values (every channel; floating point).
-double medianValue(const cv::Mat& image) {
-  std::vector<double> v;
-  (image.isContinuous() ? image : image.clone()).reshape(1, 1).convertTo(v, CV_64F);
+/// The median of all of `image`'s values (every channel; CV_32F).
+float medianValue(const cv::Mat& image) {
+  std::vector<float> v;
+  (image.isContinuous() ? image : image.clone()).reshape(1, 1).copyTo(v);
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
+}
+
+/// What OpenCV's `depth` holds, for a message naming a depth that is not read.
+std::string depthName(int depth) {
+  switch (depth) {
+    case CV_8S: return "8-bit signed integers";
+    case CV_16S: return "16-bit signed integers";
+    case CV_32S: return "32-bit signed integers";
+    case CV_16F: return "16-bit floating point";
+    default: return "OpenCV depth " + std::to_string(depth);
+  }
 }
 
 /// `image` (as decoded: any depth, 1, 3 or 4 channels) as 8-bit BGR: grey repeated in three channels, alpha dropped,
 /// 16-bit scaled by 1/257 (65535 -> 255), floating point read as brightness 0..1 (clipped: a high-dynamic-range
 /// frame's highlights are white, as a camera sees them; one whose median pixel exceeds 1 was scaled otherwise and is
 /// refused); anything else is refused naming `path`.
-cv::Mat asBgr8(const cv::Mat& image, const std::string& path) {
-  const int depth = image.depth();
+cv::Mat asBgr8(const cv::Mat& decoded, const std::string& path) {
+  const int depth = decoded.depth();
   if (depth != CV_8U && depth != CV_16U && depth != CV_32F && depth != CV_64F) {
-    throw std::invalid_argument(path + ": pixels of OpenCV depth " + std::to_string(depth) +
-                                " (signed integers): only 8- or 16-bit unsigned or floating-point images are read");
+    throw std::invalid_argument(path + ": pixels of " + depthName(depth) +
+                                ": only 8- or 16-bit unsigned or 32- or 64-bit floating-point images are read");
   }
+  cv::Mat image = decoded;
+  if (depth == CV_64F) decoded.convertTo(image, CV_32F);  // cvtColor takes no 64-bit pixels; 8 bits come out anyway
   cv::Mat bgr;
   switch (image.channels()) {
     case 1: cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR); break;
@@ -114,9 +128,8 @@ cv::Mat asBgr8(const cv::Mat& image, const std::string& path) {
     case CV_8U: return bgr;
     case CV_16U: bgr.convertTo(out, CV_8U, 1.0 / 257.0); return out;
     case CV_32F:
-    case CV_64F:
       if (!cv::checkRange(bgr)) throw std::invalid_argument(path + ": a floating-point image with NaN or infinite pixels");
-      if (const double median = medianValue(bgr); median > 1.0) {
+      if (const float median = medianValue(bgr); median > 1.0) {
         throw std::invalid_argument(path + ": a floating-point image whose median pixel is " + std::to_string(median) +
                                     ": read as brightness 0..1, so it would be nearly all white (scaled 0..255 or "
                                     "0..65535? divide it by its white level)");
@@ -138,30 +151,27 @@ bool isGreyImage(const cv::Mat& bgr) {
 }
 
 cv::Mat readImageFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open the file");
-  std::vector<unsigned char> bytes;
-  try {
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::exception& e) {  // libstdc++ throws reading a directory
-    throw std::invalid_argument(path + ": cannot read the file (" + e.what() + ")");
+  const std::string file = readWholeFile(path);
+  if (file.empty()) throw std::invalid_argument(path + ": empty file");
+  const auto* bytes = reinterpret_cast<const unsigned char*>(file.data());
+  const std::size_t size = file.size();
+  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw std::invalid_argument(path + ": " + std::to_string(size) + " bytes: larger than an image file OpenCV decodes (2 GiB)");
   }
-  if (in.bad()) throw std::invalid_argument(path + ": cannot read the file (an I/O error)");
-  if (bytes.empty()) throw std::invalid_argument(path + ": empty file");
   long long width = -1, height = -1;  // as the header declares them, where known before decoding
   static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   static const unsigned char kPngEnd[8] = {'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
-  if (bytes.size() >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) {
+  if (size >= 3 && bytes[0] == 0xff && bytes[1] == 0xd8 && bytes[2] == 0xff) {
     StrictJpegErrors errors;
-    const std::string problem = jpegProblem(bytes.data(), bytes.size(), errors);
+    const std::string problem = jpegProblem(bytes, size, errors);
     if (!problem.empty()) throw std::invalid_argument(path + ": corrupt or truncated JPEG (" + problem + ")");
     width = errors.width;
     height = errors.height;
-  } else if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPngSignature, 8) == 0) {
-    if (bytes.size() < 33) throw std::invalid_argument(path + ": truncated PNG (" + std::to_string(bytes.size()) + " bytes)");
+  } else if (size >= 8 && std::memcmp(bytes, kPngSignature, 8) == 0) {
+    if (size < 33) throw std::invalid_argument(path + ": truncated PNG (" + std::to_string(size) + " bytes)");
     width = bigEndian32(&bytes[16]);
     height = bigEndian32(&bytes[20]);
-    if (std::memcmp(&bytes[bytes.size() - 8], kPngEnd, 8) != 0) {
+    if (std::memcmp(&bytes[size - 8], kPngEnd, 8) != 0) {
       throw std::invalid_argument(path + ": truncated PNG (the file does not end with its IEND chunk)");
     }
   }
@@ -171,7 +181,8 @@ cv::Mat readImageFile(const std::string& path) {
   }
   cv::Mat image;
   try {
-    image = cv::imdecode(bytes, cv::IMREAD_ANYCOLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
+    const cv::Mat encoded(1, static_cast<int>(size), CV_8U, const_cast<unsigned char*>(bytes));  // read only
+    image = cv::imdecode(encoded, cv::IMREAD_ANYCOLOR | cv::IMREAD_ANYDEPTH | cv::IMREAD_IGNORE_ORIENTATION);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(path + ": cannot decode the image (" + e.err + ")");
   }
