@@ -199,6 +199,18 @@ TEST(EvaluateDetector, SceneObjectsOfUndesignatedColoursAreNamed) {
   EXPECT_NE(text.find("| " + scene.filename().string() + " |"), std::string::npos) << text;  // its row when rendered
   EXPECT_EQ(refused.find("| " + scene.filename().string() + " |"), std::string::npos)
       << "a scene rendered before the refusal: " << refused;
+  // One whose camera moves into the buoy at later frames: the same, those frames named, nothing rendered.
+  std::ofstream(inside) << "name: walk_into\nrig: {width: 640, height: 400, pixel_size_um: 17.58}\n"
+                           "camera_motion: {velocity_mps: [0.0, 0.0, 1.0]}\nobjects:\n"
+                           "  - {name: buoy, shape: sphere, colour: red, position_m: [0, 0, 2], diameter_m: 0.3}\n";
+  EXPECT_EQ(runTool(kEvaluate + " --frames 30 --rate 10 " + scene.string() + " " + inside.string(), log), 2)
+      << readText(log);
+  const std::string later = readText(log);
+  EXPECT_NE(later.find(inside.string() + ": cannot be rendered"), std::string::npos) << later;
+  EXPECT_NE(later.find("objects[0] (buoy): the left camera lies inside it at frames 19-21 (of 30 at 10 Hz)"),
+            std::string::npos)
+      << later;
+  EXPECT_EQ(later.find("| " + scene.filename().string() + " |"), std::string::npos) << later;
   fs::remove(inside);
   fs::remove(scene);
   fs::remove(log);

@@ -96,20 +96,27 @@ TEST(RenderScene, ASceneWithTheCameraInsideAnObjectIsRefused) {
   EXPECT_NE(readText(log).find("objects[0] (crate): the left camera lies inside it at time 0"), std::string::npos)
       << readText(log);
   EXPECT_FALSE(fs::exists(dir / "png" / "left_0000.png"));
-  // A camera that moves into an object at a later frame: the same, that frame named (its ground truth had been the
-  // whole image, its picture water).
+  // A camera that moves into an object at later frames: the same, those frames named as one range (their ground truth
+  // had been the whole image, their picture water).
   std::ofstream(dir / "walk_into.yaml") << "rig: {width: 640, height: 400, pixel_size_um: 17.58}\n"
                                            "camera_motion: {velocity_mps: [0.0, 0.0, 1.0]}\nobjects:\n"
                                            "  - {name: buoy, shape: sphere, colour: yellow, position_m: [0, 0, 2],"
                                            " diameter_m: 0.3}\n";
-  const std::string walk = "--scene " + (dir / "walk_into.yaml").string() + " --frames 5 --rate 1 --png-dir " +
+  const std::string walk = "--scene " + (dir / "walk_into.yaml").string() + " --frames 30 --rate 10 --png-dir " +
                            (dir / "png").string();
   EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " " + walk, log), 2);
   EXPECT_NE(readText(log).find((dir / "walk_into.yaml").string() + ": cannot be rendered"), std::string::npos)
       << readText(log);
-  EXPECT_NE(readText(log).find("frame 2: objects[0] (buoy): the left camera lies inside it at time 2 s"),
+  EXPECT_NE(readText(log).find("objects[0] (buoy): the left camera lies inside it at frames 19-21 (of 30 at 10 Hz)"),
             std::string::npos)
       << readText(log);
+  // A scene file that cannot be read is named once (the reader names it).
+  EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --png-dir " + (dir / "png").string() + " --scene " +
+                                         (dir / "absent.yaml").string(), log),
+            2);
+  const std::string unread = readText(log);
+  EXPECT_NE(unread.find((dir / "absent.yaml").string()), std::string::npos) << unread;
+  EXPECT_EQ(unread.find((dir / "absent.yaml").string()), unread.rfind((dir / "absent.yaml").string())) << unread;
   EXPECT_FALSE(fs::exists(dir / "png" / "left_0000.png"));
   fs::remove_all(dir);
 }

@@ -263,3 +263,24 @@ TEST(Renderer, CameraInsideAnObjectIsRefused) {
   panel.objects[0].shape = ShapeType::kPanel;  // a panel through the camera has no inside
   EXPECT_EQ(message(panel), "");
 }
+
+// A camera that moves into an object later than time 0 (which construction checks): render() refuses that time, and
+// camerasInside names the frames of a run as ranges, once per object and camera.
+TEST(Renderer, ACameraThatMeetsAnObjectLaterIsRefusedAtThoseTimes) {
+  Scene scene = smallScene(sphere("buoy", {0, 0, 2}, 0.3));
+  scene.camera_motion.velocity_mps = {0, 0, 1};  // inside the buoy from 1.85 s to 2.15 s
+  const Renderer renderer(scene);
+  EXPECT_NO_THROW(renderer.render(1.5, 0));
+  try {
+    renderer.render(2.0, 0);
+    ADD_FAILURE() << "a camera inside the buoy at 2 s was rendered";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("objects[0] (buoy): the left camera lies inside it at time 2 s"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::vector<std::string> run = renderer.camerasInside(30, 10.0);
+  ASSERT_FALSE(run.empty());
+  EXPECT_EQ(run[0], "objects[0] (buoy): the left camera lies inside it at frames 19-21 (of 30 at 10 Hz)");
+  EXPECT_TRUE(renderer.camerasInside(18, 10.0).empty());
+}

@@ -73,30 +73,37 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
 
 namespace {
 
-/// `visited`: the maps and lists already walked. An alias makes a node appear again, and an anchor on a map that
-/// holds its own alias (`a: &x {b: *x}`) a node that contains itself: each is walked once.
+/// The maps and lists already walked, by where they begin in the text (a node's identity, but hashable): an alias makes
+/// a node appear again, and an anchor on a map that holds its own alias (`a: &x {b: *x}`) a node that contains itself.
+using Visited = std::unordered_multimap<std::size_t, YAML::Node>;
+
+/// Whether `node` is in `visited`, adding it when not.
+bool walkedBefore(const YAML::Node& node, Visited& visited) {
+  const std::size_t at = static_cast<std::size_t>(node.Mark().pos);
+  const auto [first, last] = visited.equal_range(at);
+  if (std::any_of(first, last, [&](const auto& v) { return v.second.is(node); })) return true;
+  visited.emplace(at, node);
+  return false;
+}
+
+/// Each is walked once, each map's keys compared in one hash set: linear in the nodes of `node`.
 void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::vector<std::string>& out,
-                         std::vector<YAML::Node>& visited) {
+                         Visited& visited) {
   if (!node.IsSequence() && !node.IsMap()) return;
-  if (std::any_of(visited.begin(), visited.end(), [&](const YAML::Node& v) { return v.is(node); })) return;
-  visited.push_back(node);
+  if (walkedBefore(node, visited)) return;
   if (node.IsSequence()) {
-    for (std::size_t i = 0; i < node.size(); ++i) {
-      collectRepeatedKeys(node[i], path + "[" + std::to_string(i) + "]", out, visited);
-    }
+    std::size_t i = 0;
+    for (const YAML::Node& item : node) collectRepeatedKeys(item, path + "[" + std::to_string(i++) + "]", out, visited);
     return;
   }
-  std::vector<std::pair<std::string, int>> seen;  // key, line
+  std::unordered_map<std::string, int> seen;  // key, its first line
   for (const auto& entry : node) {
     const std::string key = entry.first.IsScalar() ? entry.first.Scalar() : "(not a plain key)";
     const int line = entry.first.Mark().line + 1;
     const std::string name = path.empty() ? key : path + "." + key;
-    const auto first = std::find_if(seen.begin(), seen.end(), [&](const auto& s) { return s.first == key; });
-    if (first != seen.end()) {
+    if (const auto [first, added] = seen.emplace(key, line); !added) {
       out.push_back("key '" + name + "' twice (lines " + std::to_string(first->second) + " and " +
                     std::to_string(line) + ")");
-    } else {
-      seen.emplace_back(key, line);
     }
     collectRepeatedKeys(entry.second, name, out, visited);
   }
@@ -106,7 +113,7 @@ void collectRepeatedKeys(const YAML::Node& node, const std::string& path, std::v
 
 std::vector<std::string> repeatedKeys(const YAML::Node& node) {
   std::vector<std::string> out;
-  std::vector<YAML::Node> visited;
+  Visited visited;
   collectRepeatedKeys(node, "", out, visited);
   return out;
 }

@@ -234,9 +234,10 @@ cv::Mat develop(cv::Mat linear_bgr, const SensorConfig& sensor, std::uint64_t no
   return sensor.encoding == "bayer_rggb8" ? mosaicRggb(bgr8) : bgr8.clone();
 }
 
-/// Every object of `scene` that holds one of `rig`'s cameras at `time_s` (Renderer::camerasInside).
-std::vector<std::string> camerasInsideObjects(const Scene& scene, const StereoRig& rig, double time_s) {
-  std::vector<std::string> problems;
+/// Every object of `scene` that holds one of `rig`'s cameras at `time_s`, as "objects[i] (name): the left camera lies
+/// inside it" (Renderer::camerasInside).
+std::vector<std::string> objectsHoldingCameras(const Scene& scene, const StereoRig& rig, double time_s) {
+  std::vector<std::string> held;
   const Eigen::Isometry3d left = cameraPose(scene.camera_motion, time_s);
   const std::pair<const char*, Eigen::Vector3d> cameras[] = {{"left", left.translation()},
                                                              {"right", (left * rig.rightInLeft()).translation()}};
@@ -246,21 +247,26 @@ std::vector<std::string> camerasInsideObjects(const Scene& scene, const StereoRi
                            rotationFromRpyDeg(o.rpy_deg).cast<float>(), o.size_m.cast<float>());
     for (const auto& [camera, at] : cameras) {
       if (placed.contains(at.cast<float>())) {
-        std::ostringstream text;
-        text << "objects[" << i << "] (" << o.name << "): the " << camera << " camera lies inside it at time " << time_s
-             << " s";
-        problems.push_back(text.str());
+        held.push_back("objects[" + std::to_string(i) + "] (" + o.name + "): the " + camera + " camera lies inside it");
       }
     }
   }
-  return problems;
+  return held;
+}
+
+/// `held` (objectsHoldingCameras) at time `time_s`.
+std::vector<std::string> atTime(std::vector<std::string> held, double time_s) {
+  std::ostringstream time;
+  time << time_s;
+  for (std::string& h : held) h += " at time " + time.str() + " s";
+  return held;
 }
 
 /// @throw std::invalid_argument listing every problem of `scene` (Scene::validate) and every object that holds a
 /// camera at time 0 (its view would be the object's inside, no picture of the scene).
 void requireRenderable(const Scene& scene, const StereoRig& rig) {
   std::vector<std::string> problems = scene.validate();
-  if (problems.empty()) problems = camerasInsideObjects(scene, rig, 0.0);
+  if (problems.empty()) problems = atTime(objectsHoldingCameras(scene, rig, 0.0), 0.0);
   if (!problems.empty()) throw std::invalid_argument(joinProblems("invalid scene", problems));
 }
 
@@ -308,7 +314,32 @@ Renderer::Renderer(Scene scene, const Renderer& rays_from) : scene_(std::move(sc
 Renderer Renderer::withScene(Scene scene) const { return Renderer(std::move(scene), *this); }
 
 std::vector<std::string> Renderer::camerasInside(double time_s) const {
-  return camerasInsideObjects(scene_, rig_, time_s);
+  return atTime(objectsHoldingCameras(scene_, rig_, time_s), time_s);
+}
+
+std::vector<std::string> Renderer::camerasInside(int frames, double rate_hz) const {
+  std::vector<std::pair<std::string, std::vector<int>>> held;  // in the order first met: what, at which frames
+  for (int k = 0; k < frames; ++k) {
+    for (const std::string& h : objectsHoldingCameras(scene_, rig_, k / rate_hz)) {
+      auto same = std::find_if(held.begin(), held.end(), [&](const auto& e) { return e.first == h; });
+      if (same == held.end()) same = held.insert(held.end(), {h, {}});
+      same->second.push_back(k);
+    }
+  }
+  std::vector<std::string> out;
+  for (const auto& [what, at] : held) {
+    std::string ranges;  // consecutive frames as one range: "frames 3-40, 52"
+    for (std::size_t a = 0, b = 0; a < at.size(); a = b) {
+      for (b = a + 1; b < at.size() && at[b] == at[b - 1] + 1; ++b) {
+      }
+      ranges += (ranges.empty() ? "" : ", ") + std::to_string(at[a]) + (b - a > 1 ? "-" + std::to_string(at[b - 1]) : "");
+    }
+    std::ostringstream rate;
+    rate << rate_hz;
+    out.push_back(what + " at frame" + (at.size() > 1 ? "s " : " ") + ranges + " (of " + std::to_string(frames) +
+                  " at " + rate.str() + " Hz)");
+  }
+  return out;
 }
 
 RenderedPair Renderer::render(double time_s, std::uint64_t frame_index) const {

@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     } catch (const std::exception& e) {
       problems.push_back(e.what());
     }
-    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, problems);
+    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, frames, rate, problems);
     if (!problems.empty()) {
       for (const std::string& p : problems) std::cerr << "benchmark_detector: " << p << "\n";
       return 2;

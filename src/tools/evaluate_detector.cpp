@@ -430,7 +430,7 @@ int main(int argc, char** argv) {
     }
     // The detector must take each rig (image size, baseline) too: a scene the simulator renders but the detector
     // refuses is named now, not after the table's header.
-    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, problems);
+    scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, frames, rate, problems);
     if (scenes.empty() && config_loaded) {
       const std::string problem =
           tools::sceneProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)");

@@ -212,19 +212,24 @@ int main(int argc, char** argv) {
       writeTrainingData(opt);
       return 0;
     }
+    // The command line named a scene that cannot be read or rendered: as a bad option, exit 2.
+    std::optional<sim::Scene> scene;
+    try {
+      scene = sim::loadSceneFile(opt.scene);
+    } catch (const std::invalid_argument& e) {  // its errors name the file
+      std::cerr << "render_scene: " << e.what() << "\n";
+      return 2;
+    }
     std::optional<sim::Renderer> made;
-    try {  // a scene that cannot be read or rendered (a camera inside an object)
-      made.emplace(sim::loadSceneFile(opt.scene));
-      // A camera that meets an object at a later frame (a moving camera or object): refused before anything is written.
-      std::vector<std::string> inside;
-      for (int k = 0; k < opt.frames; ++k) {
-        for (const std::string& p : made->camerasInside(k / opt.rate_hz)) {
-          inside.push_back("frame " + std::to_string(k) + ": " + p);
-        }
-      }
-      if (!inside.empty()) throw std::invalid_argument(joinProblems("cannot be rendered", inside));
-    } catch (const std::invalid_argument& e) {  // the command line named a bad scene: as a bad option
+    try {
+      made.emplace(std::move(*scene));
+    } catch (const std::invalid_argument& e) {
       std::cerr << "render_scene: " << opt.scene << ": " << e.what() << "\n";
+      return 2;
+    }
+    // A camera that meets an object at a later frame (a moving camera or object): refused before anything is written.
+    if (const std::vector<std::string> inside = made->camerasInside(opt.frames, opt.rate_hz); !inside.empty()) {
+      std::cerr << "render_scene: " << joinProblems(opt.scene + ": cannot be rendered", inside) << "\n";
       return 2;
     }
     const sim::Renderer& renderer = *made;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene.h"
@@ -16,14 +17,18 @@
 namespace underwater_stereo {
 namespace tools {
 
-/// Why `scene`, named `named`, cannot be rendered (a camera inside an object) or the detector with `config` refuses its
-/// rig (image size, baseline); "" when neither.
-inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named) {
+/// Why `scene`, named `named`, cannot be rendered (a camera inside an object, at time 0 or at one of `frames` frames
+/// at `rate_hz`) or the detector with `config` refuses its rig (image size, baseline); "" when neither.
+inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named,
+                                int frames = 1, double rate_hz = 1.0) {
   std::optional<sim::Renderer> renderer;
   try {
     renderer.emplace(scene);
   } catch (const std::invalid_argument& e) {
     return named + ": " + e.what();
+  }
+  if (const std::vector<std::string> inside = renderer->camerasInside(frames, rate_hz); !inside.empty()) {
+    return joinProblems(named + ": cannot be rendered", inside);
   }
   try {
     const Detector detector(config, renderer->calibration());
@@ -33,12 +38,12 @@ inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& 
   return "";
 }
 
-/// The scene files at `paths` that can be read; each that cannot, cannot be rendered, or whose rig the detector with
-/// `config` refuses (the last two not tried when `config` is null: the configuration could not be read), is added to
-/// `problems`.
+/// The scene files at `paths` that can be read; each that cannot, cannot be rendered at one of `frames` frames at
+/// `rate_hz`, or whose rig the detector with `config` refuses (the last two not tried when `config` is null: the
+/// configuration could not be read), is added to `problems`.
 inline std::vector<std::pair<std::string, sim::Scene>> readSceneFiles(const std::vector<std::string>& paths,
-                                                                      const DetectorConfig* config,
-                                                                      std::vector<std::string>& problems) {
+                                                                      const DetectorConfig* config, int frames,
+                                                                      double rate_hz, std::vector<std::string>& problems) {
   std::vector<std::pair<std::string, sim::Scene>> scenes;
   for (const std::string& path : paths) {
     try {
@@ -48,7 +53,8 @@ inline std::vector<std::pair<std::string, sim::Scene>> readSceneFiles(const std:
       continue;
     }
     if (config == nullptr) continue;
-    if (std::string problem = sceneProblem(*config, scenes.back().second, path); !problem.empty()) {
+    if (std::string problem = sceneProblem(*config, scenes.back().second, path, frames, rate_hz);
+        !problem.empty()) {
       problems.push_back(std::move(problem));
     }
   }

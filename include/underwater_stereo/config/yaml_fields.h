@@ -105,6 +105,9 @@ auto parseYamlFile(const std::string& path, const std::string& what, Parse parse
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
+  } catch (const YAML::BadFile&) {  // its message repeats the path
+    const bool exists = std::filesystem::exists(path, error);
+    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + (exists ? "it cannot be opened" : "no such file"));
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.what());
   }

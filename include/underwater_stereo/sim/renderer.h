@@ -41,6 +41,11 @@ class Renderer {
   /// time T s"): a moving camera or object may meet later than time 0, which construction checks.
   std::vector<std::string> camerasInside(double time_s) const;
 
+  /// Every object that holds a camera at one of the frames 0 .. frames - 1 rendered at `rate_hz` (frame k at time
+  /// k / rate_hz), once per object and camera with its frames as ranges ("objects[i] (name): the left camera lies
+  /// inside it at frames 3-40, 52 (of 60 at 15 Hz)"): a check of a whole run before anything is rendered.
+  std::vector<std::string> camerasInside(int frames, double rate_hz) const;
+
   /// A renderer of `scene` that shares this one's pixel rays (the costly part of construction), for many
   /// scenes seen by one head. @throw std::invalid_argument when scene.rig differs from this renderer's or
   /// the scene does not validate.
