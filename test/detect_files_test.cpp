@@ -140,6 +140,9 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   std::ofstream(path("quote.txt")) << "\"" << path("left.png") << "\n";
   EXPECT_NE(firstLine("--list " + path("quote.txt")).find(path("quote.txt") + ":1: a double quote not closed"),
             std::string::npos) << firstLine("--list " + path("quote.txt"));
+  std::ofstream(path("glued.txt")) << "\"" << path("left.png") << "\"\"" << path("right.png") << "\"\n";
+  EXPECT_NE(firstLine("--list " + path("glued.txt")).find(path("glued.txt") + ":1: text right after a closing double quote"),
+            std::string::npos) << firstLine("--list " + path("glued.txt"));
   // An empty quoted path (a stereo line would have become a 2D frame) and a NUL byte are named too.
   std::ofstream(path("empty_path.txt")) << path("left.png") << " \"\"\n";
   EXPECT_NE(firstLine("--list " + path("empty_path.txt")).find(path("empty_path.txt") + ":1: an empty path"),
@@ -150,7 +153,7 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   // An option of one value given twice: refused, not the last one taken (the first list's frames were dropped).
   EXPECT_NE(firstLine("--list " + path("pairs.txt") + " --list " + path("pairs.txt")).find("--list is given twice"),
             std::string::npos);
-  std::ofstream(path("empty_list.txt")) << "# nothing\n";
+  std::ofstream(path("empty_list.txt")) << "# nothing\n  # an indented comment\n\t\n";
   EXPECT_NE(firstLine("--list " + path("empty_list.txt")).find("the list file " + path("empty_list.txt") + " names no frame"),
             std::string::npos) << firstLine("--list " + path("empty_list.txt"));
   std::ofstream(path("bom.txt")) << "\xEF\xBB\xBF" << path("left.png") << "\r\n";  // as a Windows editor saves it

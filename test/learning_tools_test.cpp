@@ -287,6 +287,9 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
   std::ofstream(dir / "maybe.json")
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 6, \"objects\": [{\"name\": \"a\", "
          "\"eligible\": \"maybe\", \"found\": true, \"designated\": true}]}]}";
+  std::ofstream(dir / "maybe_found.json")  // a bad flag after one that drops the object: named all the same
+      << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 8, \"objects\": [{\"name\": \"a\", "
+         "\"eligible\": false, \"found\": \"maybe\", \"designated\": false}]}]}";
   std::ofstream(dir / "joined.json") << readText(good) << "\n" << readText(good);
   std::ofstream(dir / "twice.json")
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 7, \"objects\": [{\"name\": \"a\", "
@@ -297,6 +300,9 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     EXPECT_NE(readText(dir / "learn.log").find("maybe.json: seed 6: malformed record"), std::string::npos)
         << readText(dir / "learn.log");
     EXPECT_NE(readText(dir / "learn.log").find("\"eligible\" is neither true nor false"), std::string::npos)
+        << readText(dir / "learn.log");
+    EXPECT_EQ(runTool(command + (dir / "maybe_found.json").string(), dir / "learn.log"), 1) << command;
+    EXPECT_NE(readText(dir / "learn.log").find("\"found\" is neither true nor false"), std::string::npos)
         << readText(dir / "learn.log");
     EXPECT_EQ(runTool(command + (dir / "joined.json").string(), dir / "learn.log"), 1) << command;
     EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"),

@@ -70,16 +70,24 @@ std::vector<std::string> expand(const std::string& option, const std::string& pa
   return out;
 }
 
-/// Whether `line` leaves a double quote open, as std::quoted reads it: a quote opens only at the start of a word
-/// (elsewhere it is a character of the path); inside, a backslash escapes the next character and a quote closes.
-bool unclosedQuote(const std::string& line) {
+/// What std::quoted would read wrong in `line` ("" when nothing): a double quote left open, or text glued to a closing
+/// one (`"a""b c"` would be two paths). A quote opens only at the start of a word (elsewhere it is a character of the
+/// path); inside, a backslash escapes the next character and a quote closes.
+std::string quoteProblem(const std::string& line) {
   bool inside = false;
   for (std::size_t i = 0; i < line.size(); ++i) {
-    if (inside && line[i] == '\\') ++i;
-    else if (inside && line[i] == '"') inside = false;
-    else if (!inside && line[i] == '"' && (i == 0 || std::isspace(static_cast<unsigned char>(line[i - 1])))) inside = true;
+    if (inside && line[i] == '\\') {
+      ++i;
+    } else if (inside && line[i] == '"') {
+      inside = false;
+      if (i + 1 < line.size() && !std::isspace(static_cast<unsigned char>(line[i + 1]))) {
+        return "text right after a closing double quote (paths are separated by spaces)";
+      }
+    } else if (!inside && line[i] == '"' && (i == 0 || std::isspace(static_cast<unsigned char>(line[i - 1])))) {
+      inside = true;
+    }
   }
-  return inside;
+  return inside ? "a double quote not closed" : "";
 }
 
 Options parse(int argc, char** argv) {
@@ -128,9 +136,10 @@ Options parse(int argc, char** argv) {
     for (int n = 1; std::getline(in, line); ++n) {
       if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark, not a path
       if (!line.empty() && line.back() == '\r') line.pop_back();          // a list written on Windows
-      if (line.empty() || line[0] == '#') continue;
+      const std::size_t first = line.find_first_not_of(" \t");
+      if (first == std::string::npos || line[first] == '#') continue;  // blank, or a comment (indented too)
       const std::string where = o.list + ":" + std::to_string(n);
-      if (unclosedQuote(line)) throw std::invalid_argument(where + ": a double quote not closed");
+      if (const std::string problem = quoteProblem(line); !problem.empty()) throw std::invalid_argument(where + ": " + problem);
       if (line.find('\0') != std::string::npos) throw std::invalid_argument(where + ": a NUL byte (no path holds one)");
       std::istringstream in_line(line);
       std::vector<std::string> words;

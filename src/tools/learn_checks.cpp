@@ -64,9 +64,9 @@ void addPair(const YAML::Node& pair, const std::vector<std::string>& colours, st
   std::map<std::string, YAML::Node> objects;
   for (const YAML::Node& o : pair["objects"]) {
     objects[o["name"].as<std::string>()] = o;
-    if (!tools::recordFlag(o, "found") || !tools::recordFlag(o, "designated") || !tools::recordFlag(o, "eligible")) {
-      continue;
-    }
+    const bool found = tools::recordFlag(o, "found"), designated = tools::recordFlag(o, "designated"),
+               eligible = tools::recordFlag(o, "eligible");  // all three checked, whatever the first says
+    if (!found || !designated || !eligible) continue;
     const auto colour = std::find(colours.begin(), colours.end(), o["colour"].as<std::string>());
     if (colour == colours.end()) continue;  // a designated colour the colour model does not name
     addSample(featuresOf(o["detected"]["check_features"], width, where), static_cast<int>(colour - colours.begin()), out);

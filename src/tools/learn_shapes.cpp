@@ -27,7 +27,8 @@ void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind
   const YAML::Node root = tools::loadRandomRecords(path);
   tools::forEachRecordPair(root, path, [&](const YAML::Node& pair, const std::string& where) {
     for (const YAML::Node& o : pair["objects"]) {
-      if (!tools::recordFlag(o, "eligible") || !tools::recordFlag(o, "found")) continue;
+      const bool eligible = tools::recordFlag(o, "eligible"), found = tools::recordFlag(o, "found");  // both checked
+      if (!eligible || !found) continue;
       const YAML::Node f = o["detected"]["shape_features"];
       if (!f || !f.IsSequence()) {
         throw std::invalid_argument(where + ": a found object without detected.shape_features (records older than the "
