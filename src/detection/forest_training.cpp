@@ -5,50 +5,32 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
+#include <fstream>
 #include <stdexcept>
-#include <string>
-
-#include "underwater_stereo/common/whole_file.h"
 
 namespace underwater_stereo {
 namespace {
 
-/// Whether `bytes` from `at` begin a gzip member.
-bool gzipAt(const std::string& bytes, std::size_t at) {
-  return bytes.size() >= at + 2 && static_cast<unsigned char>(bytes[at]) == 0x1f &&
-         static_cast<unsigned char>(bytes[at + 1]) == 0x8b;
-}
-
-/// `bytes` of a gzip file inflated by zlib to the end of its last member, where zlib checks each member's length and
-/// CRC; anything after the last member is ignored, as gzread does. @throw std::invalid_argument naming zlib's reason
-/// when it is cut short or corrupt.
-std::string gunzipped(const std::string& bytes) {
-  if (bytes.size() > std::numeric_limits<uInt>::max()) throw std::invalid_argument("larger than 4 GiB");
-  z_stream z{};
-  if (inflateInit2(&z, 16 + MAX_WBITS) != Z_OK) throw std::runtime_error("zlib cannot start inflating");
-  std::string text;
+/// What is wrong with the gzip file at `path` ("" when it is whole, or not gzip): OpenCV reads a gzipped model cut
+/// short without a word (a tree cut off at its last node, or dropped), so the file is decompressed once to its end,
+/// where zlib checks its length and CRC.
+std::string gzipProblem(const std::string& path) {
+  std::array<unsigned char, 2> magic{};
+  std::ifstream in(path, std::ios::binary);
+  if (!in.read(reinterpret_cast<char*>(magic.data()), 2) || magic[0] != 0x1f || magic[1] != 0x8b) return "";
+  gzFile file = gzopen(path.c_str(), "rb");
+  if (file == nullptr) return "cannot be opened";
   std::array<char, 1 << 16> buffer;
-  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
-  z.avail_in = static_cast<uInt>(bytes.size());
-  for (;;) {
-    z.next_out = reinterpret_cast<Bytef*>(buffer.data());
-    z.avail_out = static_cast<uInt>(buffer.size());
-    const int status = inflate(&z, Z_NO_FLUSH);
-    text.append(buffer.data(), buffer.size() - z.avail_out);
-    if (status == Z_STREAM_END) {
-      if (!gzipAt(bytes, bytes.size() - z.avail_in)) break;
-      inflateReset(&z);  // another member follows (gzip files may be concatenated)
-    } else if (status != Z_OK || (z.avail_in == 0 && z.avail_out > 0)) {  // an error, or the input ends in a member
-      const std::string why = status == Z_OK || status == Z_BUF_ERROR ? "unexpected end of file"
-                              : z.msg != nullptr                      ? z.msg
-                                                                      : "inflate error " + std::to_string(status);
-      inflateEnd(&z);
-      throw std::invalid_argument(why);
-    }
+  int n = 0;
+  while ((n = gzread(file, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0) {
   }
-  inflateEnd(&z);
-  return text;
+  int error = Z_OK;
+  std::string problem = gzerror(file, &error);
+  if (error == Z_OK && n == 0) problem.clear();
+  if (problem.rfind(path + ": ", 0) == 0) problem.erase(0, path.size() + 2);  // zlib names the file; the caller does
+  const int closed = gzclose_r(file);
+  if (problem.empty() && closed != Z_OK) problem = closed == Z_BUF_ERROR ? "unexpected end of file" : "cannot be read";
+  return problem;
 }
 
 }  // namespace
@@ -74,29 +56,17 @@ cv::Ptr<cv::ml::RTrees> trainForest(const cv::Mat& samples, const cv::Mat& respo
 }
 
 cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
-  std::string text;
-  try {
-    text = readWholeFile(path);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(named + ": cannot be opened (" + std::string(e.what()).substr(path.size() + 2) + ")");
-  }
-  if (text.empty()) throw std::invalid_argument(named + ": an empty file");
-  // OpenCV reads a gzipped model cut short without a word (a tree cut off at its last node, or dropped): it is
-  // inflated here, once, to its end, and OpenCV parses the text.
-  if (gzipAt(text, 0)) {
-    try {
-      text = gunzipped(text);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(named + ": unreadable (gzip: " + e.what() + "; cut short or corrupt?)");
-    }
+  if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
+  if (const std::string problem = gzipProblem(path); !problem.empty()) {
+    throw std::invalid_argument(named + ": unreadable (gzip: " + problem + "; cut short or corrupt?)");
   }
   cv::FileStorage fs;
   try {
-    fs.open(text, cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    fs.open(path, cv::FileStorage::READ);
   } catch (const cv::Exception& e) {
     throw std::invalid_argument(named + ": unreadable (" + e.msg + ")");
   }
-  if (!fs.isOpened()) throw std::invalid_argument(named + ": unreadable (not a model file OpenCV can parse)");
+  if (!fs.isOpened()) throw std::invalid_argument(named + ": cannot be opened");
   return fs;
 }
 
