@@ -143,6 +143,13 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   std::ofstream(path("glued.txt")) << "\"" << path("left.png") << "\"\"" << path("right.png") << "\"\n";
   EXPECT_NE(firstLine("--list " + path("glued.txt")).find(path("glued.txt") + ":1: text right after a closing double quote"),
             std::string::npos) << firstLine("--list " + path("glued.txt"));
+  std::ofstream(path("inner_quote.txt")) << path("left") << "\"copy b.png\"\n";
+  EXPECT_NE(firstLine("--list " + path("inner_quote.txt")).find(path("inner_quote.txt") + ":1: a double quote inside a word"),
+            std::string::npos) << firstLine("--list " + path("inner_quote.txt"));
+  std::ofstream(path("trailing_comment.txt")) << path("left.png") << " " << path("right.png") << " # the first pair\n";
+  EXPECT_NE(firstLine("--list " + path("trailing_comment.txt"))
+                .find(path("trailing_comment.txt") + ":1: a comment after a path"),
+            std::string::npos) << firstLine("--list " + path("trailing_comment.txt"));
   // An empty quoted path (a stereo line would have become a 2D frame) and a NUL byte are named too.
   std::ofstream(path("empty_path.txt")) << path("left.png") << " \"\"\n";
   EXPECT_NE(firstLine("--list " + path("empty_path.txt")).find(path("empty_path.txt") + ":1: an empty path"),

@@ -153,6 +153,10 @@ TEST(ImageFile, SixteenBitAndFloatingPointImagesAreReadAsTheirBrightness) {
   const cv::Mat read_doubles = readImageFile(tempFile("doubles.tiff", encodedImage(".tiff", doubles)));
   EXPECT_EQ(read_doubles.type(), CV_8UC3);
   EXPECT_NEAR(cv::mean(read_doubles)[0], 127.5, 1.0);
+  const std::string huge_doubles = tempFile("huge_doubles.tiff", encodedImage(".tiff", cv::Mat(48, 64, CV_64FC1, cv::Scalar(1e40))));
+  EXPECT_NE(messageOf([&] { readImageFile(huge_doubles); }).find(huge_doubles + ": a floating-point image whose median pixel is"),
+            std::string::npos)
+      << messageOf([&] { readImageFile(huge_doubles); });  // beyond 32-bit floats: too bright, not "infinite"
   cv::Mat with_nan(48, 64, CV_32F, cv::Scalar(0.5));  // one channel: stored as plain floats, NaN kept
   with_nan.at<float>(3, 4) = std::numeric_limits<float>::quiet_NaN();
   const std::string nan = tempFile("nan.tiff", encodedImage(".tiff", with_nan));

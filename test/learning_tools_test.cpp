@@ -232,6 +232,8 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     std::string named;
   } cases[] = {
       {"--out " + model + " " + (dir / "folder").string(), 1, (dir / "folder").string() + ": is a folder, not a records file"},
+      {"--out " + model + " " + (dir / "absent.json").string(), 1,
+       (dir / "absent.json").string() + ": cannot read the records file: No such file or directory"},
       {"--out " + model + " " + good + " " + (dir / "." / "good.json").string(), 2, "good.json is given twice (also as " + good},
       // A copy under another name: its records would be learnt twice as well.
       {"--out " + model + " " + good + " " + (dir / "copy.json").string(), 2,
@@ -287,9 +289,14 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
   std::ofstream(dir / "maybe.json")
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 6, \"objects\": [{\"name\": \"a\", "
          "\"eligible\": \"maybe\", \"found\": true, \"designated\": true}]}]}";
-  std::ofstream(dir / "maybe_found.json")  // a bad flag after one that drops the object: named all the same
+  // A bad flag after one that drops the object (learn_shapes reads eligible first, learn_checks found): named all the
+  // same.
+  std::ofstream(dir / "late_flag_shapes.json")
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 8, \"objects\": [{\"name\": \"a\", "
-         "\"eligible\": false, \"found\": \"maybe\", \"designated\": false}]}]}";
+         "\"eligible\": false, \"found\": \"maybe\", \"designated\": true}]}]}";
+  std::ofstream(dir / "late_flag_checks.json")
+      << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 8, \"objects\": [{\"name\": \"a\", "
+         "\"found\": false, \"designated\": true, \"eligible\": \"maybe\"}]}]}";
   std::ofstream(dir / "joined.json") << readText(good) << "\n" << readText(good);
   std::ofstream(dir / "twice.json")
       << "{\"config\": \"c --without-check\", \"pairs\": [{\"seed\": 7, \"objects\": [{\"name\": \"a\", "
@@ -301,8 +308,13 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
         << readText(dir / "learn.log");
     EXPECT_NE(readText(dir / "learn.log").find("\"eligible\" is neither true nor false"), std::string::npos)
         << readText(dir / "learn.log");
-    EXPECT_EQ(runTool(command + (dir / "maybe_found.json").string(), dir / "learn.log"), 1) << command;
-    EXPECT_NE(readText(dir / "learn.log").find("\"found\" is neither true nor false"), std::string::npos)
+    const bool shapes = learner.find("learn_shapes") != std::string::npos;
+    EXPECT_EQ(runTool(command + (dir / (shapes ? "late_flag_shapes.json" : "late_flag_checks.json")).string(),
+                      dir / "learn.log"),
+              1)
+        << command;
+    EXPECT_NE(readText(dir / "learn.log").find(shapes ? "\"found\" is neither" : "\"eligible\" is neither"),
+              std::string::npos)
         << readText(dir / "learn.log");
     EXPECT_EQ(runTool(command + (dir / "joined.json").string(), dir / "learn.log"), 1) << command;
     EXPECT_NE(readText(dir / "learn.log").find("joined.json: 2 records documents one after the other"),

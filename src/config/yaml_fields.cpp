@@ -2,7 +2,11 @@
 #include "underwater_stereo/config/yaml_fields.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <sstream>
+#include <unordered_map>
 #include <utility>
 
 namespace underwater_stereo {
@@ -64,6 +68,17 @@ void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path, const 
   }
 }
 
+std::string openFailure(const std::string& path) {
+  errno = 0;
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  const int why = errno;
+  if (file != nullptr) {
+    std::fclose(file);
+    return "it could be opened now: read again?";  // it came or went between the reader's attempt and this one
+  }
+  return why != 0 ? std::strerror(why) : "it cannot be opened";
+}
+
 std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems) {
   std::ostringstream out;
   out << heading << " (" << problems.size() << (problems.size() == 1 ? " problem" : " problems") << "):";
@@ -75,6 +90,8 @@ namespace {
 
 /// The maps and lists already walked, by where they begin in the text (a node's identity, but hashable): an alias makes
 /// a node appear again, and an anchor on a map that holds its own alias (`a: &x {b: *x}`) a node that contains itself.
+/// Nodes built in code, not parsed, have no position and share one bucket: walking many of them is quadratic (every
+/// caller passes parsed files).
 using Visited = std::unordered_multimap<std::size_t, YAML::Node>;
 
 /// Whether `node` is in `visited`, adding it when not.

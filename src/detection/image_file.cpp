@@ -8,6 +8,7 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <stdexcept>
@@ -115,7 +116,11 @@ cv::Mat asBgr8(const cv::Mat& decoded, const std::string& path) {
                                 ": only 8- or 16-bit unsigned or 32- or 64-bit floating-point images are read");
   }
   cv::Mat image = decoded;
-  if (depth == CV_64F) decoded.convertTo(image, CV_32F);  // cvtColor takes no 64-bit pixels; 8 bits come out anyway
+  if (depth == CV_64F) {  // cvtColor takes no 64-bit pixels; 8 bits come out anyway
+    if (!cv::checkRange(decoded)) throw std::invalid_argument(path + ": a floating-point image with NaN or infinite pixels");
+    const double most = std::numeric_limits<float>::max();  // beyond it a value would become infinite
+    cv::Mat(cv::max(cv::min(decoded, most), -most)).convertTo(image, CV_32F);
+  }
   cv::Mat bgr;
   switch (image.channels()) {
     case 1: cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR); break;
@@ -151,13 +156,17 @@ bool isGreyImage(const cv::Mat& bgr) {
 }
 
 cv::Mat readImageFile(const std::string& path) {
+  const auto too_large = [&](std::uintmax_t bytes) {  // OpenCV decodes from an int-sized buffer
+    if (bytes <= static_cast<std::uintmax_t>(std::numeric_limits<int>::max())) return;
+    throw std::invalid_argument(path + ": " + std::to_string(bytes) + " bytes: larger than an image file OpenCV decodes (2 GiB)");
+  };
+  std::error_code error;
+  if (const std::uintmax_t bytes = std::filesystem::file_size(path, error); !error) too_large(bytes);  // before reading
   const std::string file = readWholeFile(path);
   if (file.empty()) throw std::invalid_argument(path + ": empty file");
+  too_large(file.size());  // grown since
   const auto* bytes = reinterpret_cast<const unsigned char*>(file.data());
   const std::size_t size = file.size();
-  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-    throw std::invalid_argument(path + ": " + std::to_string(size) + " bytes: larger than an image file OpenCV decodes (2 GiB)");
-  }
   long long width = -1, height = -1;  // as the header declares them, where known before decoding
   static const unsigned char kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   static const unsigned char kPngEnd[8] = {'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};

@@ -318,6 +318,9 @@ std::vector<std::string> Renderer::camerasInside(double time_s) const {
 }
 
 std::vector<std::string> Renderer::camerasInside(int frames, double rate_hz) const {
+  if (frames < 0 || !(rate_hz > 0) || !std::isfinite(rate_hz)) {
+    throw std::invalid_argument("Renderer::camerasInside: frames must be >= 0 and the rate a positive number");
+  }
   std::vector<std::pair<std::string, std::vector<int>>> held;  // in the order first met: what, at which frames
   for (int k = 0; k < frames; ++k) {
     for (const std::string& h : objectsHoldingCameras(scene_, rig_, k / rate_hz)) {
@@ -328,16 +331,23 @@ std::vector<std::string> Renderer::camerasInside(int frames, double rate_hz) con
   }
   std::vector<std::string> out;
   for (const auto& [what, at] : held) {
+    constexpr int kRangesShown = 10;  // a bobbing object may meet the camera every few frames of a long run
     std::string ranges;  // consecutive frames as one range: "frames 3-40, 52"
-    for (std::size_t a = 0, b = 0; a < at.size(); a = b) {
+    int count = 0;
+    for (std::size_t a = 0, b = 0; a < at.size(); a = b, ++count) {
       for (b = a + 1; b < at.size() && at[b] == at[b - 1] + 1; ++b) {
       }
-      ranges += (ranges.empty() ? "" : ", ") + std::to_string(at[a]) + (b - a > 1 ? "-" + std::to_string(at[b - 1]) : "");
+      if (count < kRangesShown) {
+        ranges += (ranges.empty() ? "" : ", ") + std::to_string(at[a]) + (b - a > 1 ? "-" + std::to_string(at[b - 1]) : "");
+      }
     }
+    const std::string more = count > kRangesShown ? " and " + std::to_string(count - kRangesShown) + " more ranges (" +
+                                                        std::to_string(at.size()) + " of "
+                                                  : " (of ";
     std::ostringstream rate;
     rate << rate_hz;
-    out.push_back(what + " at frame" + (at.size() > 1 ? "s " : " ") + ranges + " (of " + std::to_string(frames) +
-                  " at " + rate.str() + " Hz)");
+    out.push_back(what + " at frame" + (at.size() > 1 ? "s " : " ") + ranges + more + std::to_string(frames) + " at " +
+                  rate.str() + " Hz)");
   }
   return out;
 }

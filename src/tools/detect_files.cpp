@@ -7,10 +7,8 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <iterator>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -70,24 +68,44 @@ std::vector<std::string> expand(const std::string& option, const std::string& pa
   return out;
 }
 
-/// What std::quoted would read wrong in `line` ("" when nothing): a double quote left open, or text glued to a closing
-/// one (`"a""b c"` would be two paths). A quote opens only at the start of a word (elsewhere it is a character of the
-/// path); inside, a backslash escapes the next character and a quote closes.
-std::string quoteProblem(const std::string& line) {
-  bool inside = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    if (inside && line[i] == '\\') {
-      ++i;
-    } else if (inside && line[i] == '"') {
-      inside = false;
-      if (i + 1 < line.size() && !std::isspace(static_cast<unsigned char>(line[i + 1]))) {
-        return "text right after a closing double quote (paths are separated by spaces)";
+/// The paths on one line of a --list file: words separated by spaces or tabs; a word in double quotes may hold spaces
+/// (inside it, a backslash makes the next character plain: \" and \\). @throw std::invalid_argument naming what it
+/// cannot read as meant: a quote not closed, text glued to a closing quote (`"a""b c"`), a quote inside an unquoted
+/// word (`a"b c"`), an empty quoted path, a # after a path (a comment takes a line of its own).
+std::vector<std::string> listWords(const std::string& line) {
+  std::vector<std::string> words;
+  const auto space = [&](std::size_t k) { return std::isspace(static_cast<unsigned char>(line[k])) != 0; };
+  for (std::size_t i = 0;;) {
+    while (i < line.size() && space(i)) ++i;
+    if (i == line.size()) return words;
+    std::string word;
+    if (line[i] == '"') {
+      bool closed = false;
+      for (++i; i < line.size() && !closed; ++i) {
+        if (line[i] == '\\' && i + 1 < line.size()) word += line[++i];
+        else if (line[i] == '"') closed = true;
+        else word += line[i];
       }
-    } else if (!inside && line[i] == '"' && (i == 0 || std::isspace(static_cast<unsigned char>(line[i - 1])))) {
-      inside = true;
+      if (!closed) throw std::invalid_argument("a double quote not closed");
+      if (i < line.size() && !space(i)) {
+        throw std::invalid_argument("text right after a closing double quote (paths are separated by spaces)");
+      }
+      if (word.empty()) throw std::invalid_argument("an empty path (\"\")");
+    } else {
+      if (line[i] == '#' && !words.empty()) {
+        throw std::invalid_argument("a comment after a path (a comment takes a line of its own; a path that begins "
+                                    "with # goes in double quotes)");
+      }
+      for (; i < line.size() && !space(i); ++i) {
+        if (line[i] == '"') {
+          throw std::invalid_argument("a double quote inside a word (a path with spaces goes in double quotes as a "
+                                      "whole; a quote within a path as \\\")");
+        }
+        word += line[i];
+      }
     }
+    words.push_back(word);
   }
-  return inside ? "a double quote not closed" : "";
 }
 
 Options parse(int argc, char** argv) {
@@ -139,17 +157,14 @@ Options parse(int argc, char** argv) {
       const std::size_t first = line.find_first_not_of(" \t");
       if (first == std::string::npos || line[first] == '#') continue;  // blank, or a comment (indented too)
       const std::string where = o.list + ":" + std::to_string(n);
-      if (const std::string problem = quoteProblem(line); !problem.empty()) throw std::invalid_argument(where + ": " + problem);
       if (line.find('\0') != std::string::npos) throw std::invalid_argument(where + ": a NUL byte (no path holds one)");
-      std::istringstream in_line(line);
       std::vector<std::string> words;
-      for (std::string w; in_line >> std::ws && !in_line.eof() && in_line >> std::quoted(w);) {
-        words.push_back(w);  // "a path with spaces" in double quotes
+      try {
+        words = listWords(line);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(where + ": " + e.what());
       }
-      if (words.empty()) continue;
-      if (std::find(words.begin(), words.end(), std::string()) != words.end()) {
-        throw std::invalid_argument(where + ": an empty path (\"\")");
-      }
+      if (words.empty()) continue;  // white space other than spaces and tabs
       if (words.size() > 2) {
         throw std::invalid_argument(where + ": more than two files (a path with spaces goes in double quotes)");
       }

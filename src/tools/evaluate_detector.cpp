@@ -433,7 +433,8 @@ int main(int argc, char** argv) {
     scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, frames, rate, problems);
     if (scenes.empty() && config_loaded) {
       const std::string problem =
-          tools::sceneProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)");
+          tools::sceneProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)", 1,
+                              1.0);  // each sampled scene is rendered once, at time 0
       if (!problem.empty()) problems.push_back(problem);
     }
     if (!problems.empty()) {

@@ -29,6 +29,7 @@
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
 #include "underwater_stereo/sim/voc_labels.h"
+#include "render_problem.h"
 #include "sampler_options.h"
 #include "tool_helpers.h"
 
@@ -228,8 +229,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     // A camera that meets an object at a later frame (a moving camera or object): refused before anything is written.
-    if (const std::vector<std::string> inside = made->camerasInside(opt.frames, opt.rate_hz); !inside.empty()) {
-      std::cerr << "render_scene: " << joinProblems(opt.scene + ": cannot be rendered", inside) << "\n";
+    if (const std::string problem = tools::renderProblem(*made, opt.scene, opt.frames, opt.rate_hz); !problem.empty()) {
+      std::cerr << "render_scene: " << problem << "\n";
       return 2;
     }
     const sim::Renderer& renderer = *made;

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "underwater_stereo/config/yaml_fields.h"
+#include "render_problem.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene.h"
@@ -18,18 +18,16 @@ namespace underwater_stereo {
 namespace tools {
 
 /// Why `scene`, named `named`, cannot be rendered (a camera inside an object, at time 0 or at one of `frames` frames
-/// at `rate_hz`) or the detector with `config` refuses its rig (image size, baseline); "" when neither.
+/// at `rate_hz`: renderProblem) or the detector with `config` refuses its rig (image size, baseline); "" when neither.
 inline std::string sceneProblem(const DetectorConfig& config, const sim::Scene& scene, const std::string& named,
-                                int frames = 1, double rate_hz = 1.0) {
+                                int frames, double rate_hz) {
   std::optional<sim::Renderer> renderer;
   try {
     renderer.emplace(scene);
   } catch (const std::invalid_argument& e) {
     return named + ": " + e.what();
   }
-  if (const std::vector<std::string> inside = renderer->camerasInside(frames, rate_hz); !inside.empty()) {
-    return joinProblems(named + ": cannot be rendered", inside);
-  }
+  if (std::string problem = renderProblem(*renderer, named, frames, rate_hz); !problem.empty()) return problem;
   try {
     const Detector detector(config, renderer->calibration());
   } catch (const std::exception& e) {

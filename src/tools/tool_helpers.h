@@ -210,6 +210,8 @@ inline YAML::Node loadRandomRecords(const std::string& path) {
                                   " records documents one after the other (files joined?): give each file on its own");
     }
     if (!documents.empty()) root = documents.front();
+  } catch (const YAML::BadFile&) {  // its message only repeats the path
+    throw std::invalid_argument(path + ": cannot read the records file: " + openFailure(path));
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
   }

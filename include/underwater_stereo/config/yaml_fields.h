@@ -92,6 +92,10 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
 /// "key 'a.b' twice (lines 3 and 9)".
 std::vector<std::string> repeatedKeys(const YAML::Node& node);
 
+/// Why the file at `path` cannot be opened for reading, in the system's words ("No such file or directory",
+/// "Permission denied"), for a reader whose own error only says that it could not.
+std::string openFailure(const std::string& path);
+
 /// Loads the YAML file at `path`, refuses it when a key is repeated (repeatedKeys), and hands its root to
 /// `parse`. @throw std::invalid_argument naming the file (and `what` it should hold) when it cannot be read or
 /// parsed or repeats a key, or with `parse`'s message prefixed by the path (a yaml-cpp exception that escapes
@@ -105,9 +109,8 @@ auto parseYamlFile(const std::string& path, const std::string& what, Parse parse
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {  // its message repeats the path
-    const bool exists = std::filesystem::exists(path, error);
-    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + (exists ? "it cannot be opened" : "no such file"));
+  } catch (const YAML::BadFile&) {  // its message only repeats the path
+    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + openFailure(path));
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.what());
   }

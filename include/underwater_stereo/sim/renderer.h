@@ -43,7 +43,8 @@ class Renderer {
 
   /// Every object that holds a camera at one of the frames 0 .. frames - 1 rendered at `rate_hz` (frame k at time
   /// k / rate_hz), once per object and camera with its frames as ranges ("objects[i] (name): the left camera lies
-  /// inside it at frames 3-40, 52 (of 60 at 15 Hz)"): a check of a whole run before anything is rendered.
+  /// inside it at frames 3-40, 52 (of 60 at 15 Hz)"; the first ten ranges, then how many more): a check of a whole
+  /// run before anything is rendered. @throw std::invalid_argument when frames < 0 or rate_hz is not positive.
   std::vector<std::string> camerasInside(int frames, double rate_hz) const;
 
   /// A renderer of `scene` that shares this one's pixel rays (the costly part of construction), for many
