@@ -118,8 +118,10 @@ cv::Mat asBgr8(const cv::Mat& decoded, const std::string& path) {
   cv::Mat image = decoded;
   if (depth == CV_64F) {  // cvtColor takes no 64-bit pixels; 8 bits come out anyway
     if (!cv::checkRange(decoded)) throw std::invalid_argument(path + ": a floating-point image with NaN or infinite pixels");
-    const double most = std::numeric_limits<float>::max();  // beyond it a value would become infinite
-    cv::Mat(cv::max(cv::min(decoded, most), -most)).convertTo(image, CV_32F);
+    // Clamped well inside 32-bit floats (OpenCV's checkRange takes FLT_MAX itself for infinite): far over 1 either way,
+    // so such an image is refused for its median below, not said to hold infinite pixels.
+    constexpr double kMost = 1e30;
+    cv::Mat(cv::max(cv::min(decoded, kMost), -kMost)).convertTo(image, CV_32F);
   }
   cv::Mat bgr;
   switch (image.channels()) {
