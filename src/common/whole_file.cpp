@@ -16,7 +16,7 @@ std::string readWholeFile(const std::string& path) {
   std::string bytes;
   try {
     bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::exception& e) {  // libstdc++ throws reading a directory
+  } catch (const std::exception& e) {  // libstdc++ throws on a read error (EIO; a folder is refused above)
     throw std::invalid_argument(path + ": cannot read the file (" + e.what() + ")");
   }
   if (in.bad()) throw std::invalid_argument(path + ": cannot read the file (an I/O error)");
