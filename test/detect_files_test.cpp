@@ -99,7 +99,10 @@ TEST_F(DetectFiles, ImageModeAndListFileGiveTwoDimensionalDetections) {
   std::filesystem::copy_file(path("left.png"), path("left copy.png"));
   std::ofstream(path("spaced.txt")) << "\"" << path("left copy.png") << "\"\n";
   EXPECT_EQ(run("--list " + path("spaced.txt")).lines.size(), pair_.ground_truth.size());
-  EXPECT_EQ(run("--list " + dir_.string()).status, 2);
+  const ToolRun folder = run("--list " + dir_.string(), true);
+  EXPECT_EQ(folder.status, 2);
+  ASSERT_FALSE(folder.lines.empty());
+  EXPECT_NE(folder.lines[0].find(dir_.string() + ": a folder, not a file"), std::string::npos) << folder.lines[0];
   std::filesystem::remove(path("left copy.png"));
   const ToolRun image = run("--image '" + path("left*.png") + "'");  // a quoted glob
   ASSERT_EQ(image.status, 0);

@@ -231,7 +231,7 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
     int status;
     std::string named;
   } cases[] = {
-      {"--out " + model + " " + (dir / "folder").string(), 1, (dir / "folder").string() + ": is a folder, not a records file"},
+      {"--out " + model + " " + (dir / "folder").string(), 1, (dir / "folder").string() + ": cannot read the records file: a folder, not a file"},
       {"--out " + model + " " + (dir / "absent.json").string(), 1,
        (dir / "absent.json").string() + ": cannot read the records file: No such file or directory"},
       {"--out " + model + " " + good + " " + (dir / "." / "good.json").string(), 2, "good.json is given twice (also as " + good},

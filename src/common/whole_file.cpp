@@ -1,26 +1,45 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "underwater_stereo/common/whole_file.h"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <stdexcept>
+#include <memory>
 
 namespace underwater_stereo {
 
+namespace {
+
+std::string systemReason(int error, const char* otherwise) { return error != 0 ? std::strerror(error) : otherwise; }
+
+using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
+
+File openForReading(const std::string& path) {
+  std::error_code ignored;
+  // fopen would open a folder and its first read fail with "Is a directory": said in our words, before reading.
+  if (std::filesystem::is_directory(path, ignored)) throw UnreadableFile(path, "a folder, not a file");
+  errno = 0;
+  File file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw UnreadableFile(path, systemReason(errno, "cannot be opened"));
+  return file;
+}
+
+}  // namespace
+
 std::string readWholeFile(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw std::invalid_argument(path + ": a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open the file");
+  const File file = openForReading(path);
   std::string bytes;
-  try {
-    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } catch (const std::exception& e) {  // libstdc++ throws on a read error (EIO; a folder is refused above)
-    throw std::invalid_argument(path + ": cannot read the file (" + e.what() + ")");
+  errno = 0;  // a successful fopen may leave one behind
+  char buffer[1 << 16];
+  std::size_t got = 0;
+  while ((got = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) bytes.append(buffer, got);
+  if (std::ferror(file.get()) != 0) {
+    throw UnreadableFile(path, "cannot be read (" + systemReason(errno, "an I/O error") + ")");
   }
-  if (in.bad()) throw std::invalid_argument(path + ": cannot read the file (an I/O error)");
   return bytes;
 }
+
+void checkReadable(const std::string& path) { openForReading(path); }
 
 }  // namespace underwater_stereo

@@ -2,9 +2,6 @@
 #include "underwater_stereo/config/yaml_fields.h"
 
 #include <algorithm>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -66,17 +63,6 @@ void YamlFields::onlyKeys(const YAML::Node& map, const std::string& path, const 
       errors_.push_back(path + key + ": unknown key (known: " + names + ")");
     }
   }
-}
-
-std::string openFailure(const std::string& path) {
-  errno = 0;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  const int why = errno;
-  if (file != nullptr) {
-    std::fclose(file);
-    return "it could be opened now: read again?";  // it came or went between the reader's attempt and this one
-  }
-  return why != 0 ? std::strerror(why) : "it cannot be opened";
 }
 
 std::string joinProblems(const std::string& heading, const std::vector<std::string>& problems) {

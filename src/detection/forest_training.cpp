@@ -8,6 +8,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "underwater_stereo/common/whole_file.h"
+
 namespace underwater_stereo {
 namespace {
 
@@ -56,7 +58,11 @@ cv::Ptr<cv::ml::RTrees> trainForest(const cv::Mat& samples, const cv::Mat& respo
 }
 
 cv::FileStorage openModelFile(const std::string& path, const std::string& named) {
-  if (!std::ifstream(path)) throw std::invalid_argument(named + ": cannot be opened");
+  try {
+    checkReadable(path);
+  } catch (const UnreadableFile& e) {
+    throw std::invalid_argument(named + ": " + e.reason());
+  }
   if (const std::string problem = gzipProblem(path); !problem.empty()) {
     throw std::invalid_argument(named + ": unreadable (gzip: " + problem + "; cut short or corrupt?)");
   }

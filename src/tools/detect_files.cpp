@@ -6,15 +6,16 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/common/calibration_yaml.h"
+#include "underwater_stereo/common/whole_file.h"
 #include "underwater_stereo/detection/detection_json.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/detection/image_file.h"
@@ -143,12 +144,13 @@ Options parse(int argc, char** argv) {
     else o.list = value;
   }
   if (!o.list.empty()) {
-    std::error_code error;
-    if (std::filesystem::is_directory(o.list, error)) {
-      throw std::invalid_argument("--list " + o.list + " is a folder: give a text file naming one frame per line");
+    std::istringstream in;
+    try {
+      in.str(readWholeFile(o.list));
+    } catch (const UnreadableFile& e) {
+      throw std::invalid_argument("cannot read the list file " + o.list + ": " + e.reason() +
+                                  " (give a text file naming one frame per line)");
     }
-    std::ifstream in(o.list);
-    if (!in) throw std::invalid_argument("cannot read the list file " + o.list);
     std::string line;
     const std::size_t listed = o.images.size() + o.left.size();
     for (int n = 1; std::getline(in, line); ++n) {

@@ -19,6 +19,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "underwater_stereo/common/whole_file.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/colour_learning.h"
 #include "underwater_stereo/detection/detection_json.h"
@@ -432,7 +433,7 @@ void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector
 /// it names, by absolute path (the written file may lie in another folder).
 void writeConfig(const std::string& base_path, const std::string& out, const std::string& model_name,
                  const LearningOptions& options, double min_confidence, const std::vector<double>& per_colour) {
-  YAML::Node root = YAML::LoadFile(base_path);
+  YAML::Node root = YAML::Load(readWholeFile(base_path));  // read (and validated) once before learning
   if (YAML::Node shape = root["shape"]; shape && shape.IsMap() && shape["model_file"]) {
     const std::filesystem::path file = shape["model_file"].as<std::string>();
     if (file.is_relative()) {

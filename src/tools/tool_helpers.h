@@ -11,7 +11,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -23,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "underwater_stereo/common/whole_file.h"
 #include "underwater_stereo/config/yaml_fields.h"
 
 namespace underwater_stereo {
@@ -173,10 +173,11 @@ inline void refuseCopies(const std::vector<std::string>& paths, const std::strin
   std::vector<std::optional<std::string>> contents;  // each file read once, and only when another has its size
   const auto bytesOf = [&](std::size_t i) -> const std::string& {
     if (!contents[i]) {
-      std::ifstream in(paths[i], std::ios::binary);
-      std::ostringstream bytes;
-      if (in) bytes << in.rdbuf();
-      contents[i] = bytes.str();  // empty when unreadable
+      try {
+        contents[i] = readWholeFile(paths[i]);
+      } catch (const UnreadableFile&) {
+        contents[i] = std::string();  // never a copy: its reader names why it cannot be read
+      }
     }
     return *contents[i];
   };
@@ -198,20 +199,17 @@ inline void refuseCopies(const std::vector<std::string>& paths, const std::strin
 /// @throw std::invalid_argument naming the file when it is a folder, not readable, two documents, repeats a key, holds
 /// no "pairs" list, a "config" that is no string, or was made with --swapped.
 inline YAML::Node loadRandomRecords(const std::string& path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
-    throw std::invalid_argument(path + ": is a folder, not a records file (evaluate_detector --random --json FILE)");
-  }
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);  // JSON is YAML
+    const std::vector<YAML::Node> documents = YAML::LoadAll(readWholeFile(path));  // JSON is YAML
     if (documents.size() > 1) {
       throw std::invalid_argument(path + ": " + std::to_string(documents.size()) +
                                   " records documents one after the other (files joined?): give each file on its own");
     }
     if (!documents.empty()) root = documents.front();
-  } catch (const YAML::BadFile&) {  // its message only repeats the path
-    throw std::invalid_argument(path + ": cannot read the records file: " + openFailure(path));
+  } catch (const UnreadableFile& e) {
+    throw std::invalid_argument(path + ": cannot read the records file: " + e.reason() +
+                                " (records are what evaluate_detector --random --json FILE writes)");
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument(path + ": not readable as JSON (" + e.what() + ")");
   }

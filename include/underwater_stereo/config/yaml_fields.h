@@ -5,11 +5,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
-#include <filesystem>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "underwater_stereo/common/whole_file.h"
 
 namespace underwater_stereo {
 
@@ -92,25 +93,17 @@ std::string joinProblems(const std::string& heading, const std::vector<std::stri
 /// "key 'a.b' twice (lines 3 and 9)".
 std::vector<std::string> repeatedKeys(const YAML::Node& node);
 
-/// Why the file at `path` cannot be opened for reading, in the system's words ("No such file or directory",
-/// "Permission denied"), for a reader whose own error only says that it could not.
-std::string openFailure(const std::string& path);
-
 /// Loads the YAML file at `path`, refuses it when a key is repeated (repeatedKeys), and hands its root to
 /// `parse`. @throw std::invalid_argument naming the file (and `what` it should hold) when it cannot be read or
 /// parsed or repeats a key, or with `parse`'s message prefixed by the path (a yaml-cpp exception that escapes
 /// `parse` included).
 template <typename Parse>
 auto parseYamlFile(const std::string& path, const std::string& what, Parse parse) {
-  std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {  // yaml-cpp would say only "basic_filebuf::underflow error"
-    throw std::invalid_argument("cannot read " + what + " '" + path + "': a folder, not a file");
-  }
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {  // its message only repeats the path
-    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + openFailure(path));
+    root = YAML::Load(readWholeFile(path));  // not YAML::LoadFile: its BadFile names no reason, a folder a stream error
+  } catch (const UnreadableFile& e) {
+    throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.reason());
   } catch (const YAML::Exception& e) {
     throw std::invalid_argument("cannot read " + what + " '" + path + "': " + e.what());
   }
