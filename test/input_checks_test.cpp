@@ -229,6 +229,9 @@ TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {
   }
   EXPECT_NE(messageOf([] { readImageFile("/nonexistent/x.png"); }).find("/nonexistent/x.png: No such file or directory"), std::string::npos);
   EXPECT_NE(messageOf([] { readImageFile(testing::TempDir()); }).find(": a folder, not a file"), std::string::npos);
+  // A read that fails part way (reading /proc/self/mem from address 0 fails with EIO): the system's reason.
+  EXPECT_NE(messageOf([] { readImageFile("/proc/self/mem"); }).find("/proc/self/mem: Input/output error"), std::string::npos)
+      << messageOf([] { readImageFile("/proc/self/mem"); });
   // A PNG header declaring a huge image is refused before anything is decoded.
   std::string huge = png;
   huge[16] = 0x00, huge[17] = 0x01, huge[18] = 0x00, huge[19] = 0x00;  // width 65536

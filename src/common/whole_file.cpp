@@ -3,15 +3,18 @@
 
 #include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <memory>
+#include <system_error>
 
 namespace underwater_stereo {
 
 namespace {
 
-std::string systemReason(int error, const char* otherwise) { return error != 0 ? std::strerror(error) : otherwise; }
+/// errno's text (std::strerror's, but safe from several threads at once), or `otherwise` when nothing set errno.
+std::string systemReason(int error, const char* otherwise) {
+  return error != 0 ? std::generic_category().message(error) : otherwise;
+}
 
 using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
@@ -30,14 +33,17 @@ File openForReading(const std::string& path) {
 std::string readWholeFile(const std::string& path) {
   const File file = openForReading(path);
   std::string bytes;
-  errno = 0;  // a successful fopen may leave one behind
   char buffer[1 << 16];
-  std::size_t got = 0;
-  while ((got = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) bytes.append(buffer, got);
-  if (std::ferror(file.get()) != 0) {
-    throw UnreadableFile(path, "cannot be read (" + systemReason(errno, "an I/O error") + ")");
+  for (;;) {
+    errno = 0;  // a successful fopen or fread may leave one behind
+    const std::size_t got = std::fread(buffer, 1, sizeof buffer, file.get());
+    const int error = errno;  // taken before append allocates
+    if (got < sizeof buffer && std::ferror(file.get()) != 0) {
+      throw UnreadableFile(path, systemReason(error, "an I/O error"));
+    }
+    bytes.append(buffer, got);
+    if (got < sizeof buffer) return bytes;  // the end of the file
   }
-  return bytes;
 }
 
 void checkReadable(const std::string& path) { openForReading(path); }

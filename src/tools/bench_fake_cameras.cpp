@@ -21,6 +21,7 @@
 #include <iostream>
 #include <string>
 
+#include "underwater_stereo/common/whole_file.h"
 #include "tool_helpers.h"
 
 namespace {
@@ -156,9 +157,15 @@ int main(int argc, char** argv) {
   if (argc != 3 && argc != 5) return usage();
   Pattern pattern[2];
   for (int s = 0; s < 2; ++s) {
+    try {
+      underwater_stereo::checkReadable(argv[1 + s]);  // imread says nothing of why
+    } catch (const underwater_stereo::UnreadableFile& e) {
+      std::cerr << "bench_fake_cameras: " << e.what() << "\n";
+      return 1;
+    }
     const cv::Mat bgr = cv::imread(argv[1 + s], cv::IMREAD_COLOR);
     if (bgr.empty()) {
-      std::cerr << "bench_fake_cameras: cannot read the image '" << argv[1 + s] << "'\n";
+      std::cerr << "bench_fake_cameras: " << argv[1 + s] << ": not an image OpenCV decodes\n";
       return 1;
     }
     pattern[s].mosaic = toBayerRggb(bgr);

@@ -13,8 +13,9 @@ class UnreadableFile : public std::invalid_argument {
  public:
   UnreadableFile(const std::string& path, const std::string& reason)
       : std::invalid_argument(path + ": " + reason), reason_(reason) {}
-  /// In the system's words where it gave some ("No such file or directory", "Permission denied"), else
-  /// "a folder, not a file".
+  /// Why: the system's words where it gave some ("No such file or directory", "Permission denied", at a failed
+  /// read "Input/output error"), "a folder, not a file", or, when the system named nothing, "cannot be opened" /
+  /// "an I/O error".
   const std::string& reason() const { return reason_; }
 
  private:
