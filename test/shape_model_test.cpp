@@ -189,6 +189,18 @@ TEST(OutlineCues, OutlineAndShadingOfKnownRegions) {
   EXPECT_GT(six.quad_tolerance, 0.1);
   EXPECT_GT(flat.shading_linear, 0.98);
   EXPECT_LT(flat.shading_quadratic, 0.02);
+  EXPECT_LT(flat.shading_across, 0.02);  // its ramp runs along its longest direction
+  EXPECT_LT(six.octagon_tolerance, 0.01);
+  // A tube seen from the side: two straight sides and rounded ends, lit across its axis (brightest along it).
+  cv::Mat stadium = cv::Mat::zeros(400, 400, CV_8U), stadium_bgr;
+  cv::rectangle(stadium, cv::Rect(120, 160, 160, 80), 255, cv::FILLED);
+  cv::circle(stadium, {120, 200}, 40, 255, cv::FILLED);
+  cv::circle(stadium, {280, 200}, 40, 255, cv::FILLED);
+  const Candidate lit_tube = candidateOf(stadium, stadium_bgr, [](int, int v) { return 200 - 0.1 * (v - 40) * (v - 40); });
+  const OutlineCues tube = outlineCues(lit_tube, stadium_bgr, stadium.size());
+  EXPECT_GT(tube.shading_across, 0.95);
+  EXPECT_LT(round.shading_across, 0.7);  // a ball's highlight changes along every direction
+  EXPECT_GT(tube.octagon_tolerance, 0.03);  // rounded ends need more than eight vertices, a box's outline six
   // A region cut by the image border says so.
   EXPECT_GT(outlineCues(panel, bgr, cv::Size(300, 250)).border_share, 0.2);
   EXPECT_THROW(outlineCues(panel, cv::Mat(10, 10, CV_8UC3), square.size()), std::invalid_argument);

@@ -15,9 +15,10 @@ namespace {
 /// Object pixels sampled on a grid to about this many for the shading fits.
 constexpr int kShadingSamples = 2000;
 
-/// Shares of the grey-level variance explained by a linear ramp and, beyond it, by a quadratic surface.
-void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
-  constexpr int kTerms = 6;  // 1, x, y, x^2, y^2, xy
+/// Shares of the grey-level variance explained by a linear ramp, beyond it by a quadratic surface, and by a parabola
+/// across `long_axis` (a unit image direction, the outline's longest) alone.
+void shadingFits(const cv::Mat& grey, const cv::Mat& mask, const cv::Point2d& long_axis, OutlineCues& cues) {
+  constexpr int kTerms = 8;  // 1, x, y, x^2, y^2, xy, t, t^2 with t across long_axis
   const int step = std::max(1, static_cast<int>(std::sqrt(double(cv::countNonZero(mask > 127)) / kShadingSamples)));
   const double scale = std::max(1.0, 0.5 * std::max(grey.cols, grey.rows));
   std::vector<cv::Vec<double, kTerms>> rows;
@@ -27,7 +28,8 @@ void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
     for (int u = 0; u < grey.cols; u += step) {
       if (mask.at<std::uint8_t>(v, u) <= 127) continue;
       const double x = (u - grey.cols / 2.0) / scale, y = (v - grey.rows / 2.0) / scale, g = grey.at<std::uint8_t>(v, u);
-      rows.emplace_back(1, x, y, x * x, y * y, x * y);
+      const double t = x * long_axis.y - y * long_axis.x;
+      rows.emplace_back(1, x, y, x * x, y * y, x * y, t, t * t);
       values.push_back(g);
       sum += g;
       sum2 += g * g;
@@ -62,6 +64,7 @@ void shadingFits(const cv::Mat& grey, const cv::Mat& mask, OutlineCues& cues) {
   };
   cues.shading_linear = explained({0, 1, 2});
   cues.shading_quadratic = std::max(0.0, explained({0, 1, 2, 3, 4, 5}) - cues.shading_linear);
+  cues.shading_across = explained({0, 6, 7});
 }
 
 /// An outline is thinned to about this many points for its ellipse (a full-resolution contour has thousands; the
@@ -144,17 +147,23 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
   std::rotate(hull.begin(), far, hull.end());
   cues.quad_tolerance = polygonTolerance(hull, 4, std::sqrt(std::max(1.0, area)));
   cues.hexagon_tolerance = polygonTolerance(hull, 6, std::sqrt(std::max(1.0, area)));
+  cues.octagon_tolerance = polygonTolerance(hull, 8, std::sqrt(std::max(1.0, area)));
+  cues.decagon_tolerance = polygonTolerance(hull, 10, std::sqrt(std::max(1.0, area)));
   cv::Mat grey;
   cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
-  shadingFits(grey, c.mask, cues);
+  const double angle = box.angle * M_PI / 180;  // the direction of box.size.width
+  const cv::Point2d width_axis(std::cos(angle), std::sin(angle));
+  shadingFits(grey, c.mask, box.size.width >= box.size.height ? width_axis : cv::Point2d(-width_axis.y, width_axis.x),
+              cues);
   return cues;
 }
 
 const std::vector<std::string>& shapeFeatureNames() {
   static const std::vector<std::string> names{
       "outline_kind", "solidity", "circularity", "aspect", "rect_fill", "corners", "border_share", "ellipse_residual",
-      "quad_tolerance", "hexagon_tolerance", "log_face_contrast",
-      "shading_spread", "shading_linear", "shading_quadratic", "plane_structure", "sphere_structure",
+      "quad_tolerance", "hexagon_tolerance", "octagon_tolerance", "decagon_tolerance",
+      "log_face_contrast",
+      "shading_spread", "shading_linear", "shading_quadratic", "shading_across", "plane_structure", "sphere_structure",
       "cylinder_structure", "plane_rmse", "sphere_rmse", "cylinder_rmse", "pca_middle", "pca_smallest", "depth_spread",
       "sphere_depth", "elongation", "surface_incidence", "face_share", "two_face_share", "bulge", "log_points", "range_m"};
   return names;

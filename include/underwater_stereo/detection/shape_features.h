@@ -31,10 +31,16 @@ struct OutlineCues {
   /// 4 vertices (~0 for a panel or a box seen face-on, 0.16 for a circle) and to at most 6 (a box's hexagon).
   double quad_tolerance = 0.0;
   double hexagon_tolerance = 0.0;
+  /// The same at most 8 vertices: ~0 for a box's hexagon, larger for a tube's rounded ends, largest for a circle.
+  double octagon_tolerance = 0.0;
+  double decagon_tolerance = 0.0;  ///< the same at most 10 vertices
   std::vector<bool> on_border = {};  ///< per contour point: on the image border, not the object's edge (empty: none)
   double shading_spread = 0.0;     ///< grey-level standard deviation / mean over the object's pixels
   double shading_linear = 0.0;     ///< share of the grey-level variance a linear ramp across the region explains
   double shading_quadratic = 0.0;  ///< share a quadratic surface explains beyond the ramp (a lit ball's highlight)
+  /// Share a parabola across the outline's longest direction alone explains (a lit tube: shading that changes
+  /// across its axis, not along it).
+  double shading_across = 0.0;
 };
 
 /// The cues of candidate `c` (full-resolution contour and roi-sized mask) in the left image's `bgr_roi`
@@ -50,7 +56,7 @@ bool onImageBorder(const cv::Point& p, const cv::Size& frame);
 /// fits' evidence (residuals of the plane, sphere and cylinder fits relative to range, principal extents,
 /// depth spread against the outline's width, dominant planes' shares, the bulge of the points towards the
 /// camera, point count, range).
-constexpr int kShapeFeatureCount = 31;
+constexpr int kShapeFeatureCount = 34;
 const std::vector<std::string>& shapeFeatureNames();
 
 }  // namespace underwater_stereo
