@@ -31,7 +31,8 @@ struct OutlineCues {
   /// 4 vertices (~0 for a panel or a box seen face-on, 0.16 for a circle) and to at most 6 (a box's hexagon).
   double quad_tolerance = 0.0;
   double hexagon_tolerance = 0.0;
-  /// The same at most 8 vertices: ~0 for a box's hexagon, larger for a tube's rounded ends, largest for a circle.
+  /// The same at most 8 vertices: ~0 for a box's hexagon, larger for a rounded outline (a tube's ends: 0.07 for a
+  /// 3:1 stadium; a circle: 0.045).
   double octagon_tolerance = 0.0;
   double decagon_tolerance = 0.0;  ///< the same at most 10 vertices
   std::vector<bool> on_border = {};  ///< per contour point: on the image border, not the object's edge (empty: none)
