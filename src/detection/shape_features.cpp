@@ -145,10 +145,11 @@ OutlineCues outlineCues(const Candidate& c, const cv::Mat& bgr_roi, const cv::Si
     return cv::norm(cv::Point2f(a) - centre) < cv::norm(cv::Point2f(b) - centre);
   });
   std::rotate(hull.begin(), far, hull.end());
-  cues.quad_tolerance = polygonTolerance(hull, 4, std::sqrt(std::max(1.0, area)));
-  cues.hexagon_tolerance = polygonTolerance(hull, 6, std::sqrt(std::max(1.0, area)));
-  cues.octagon_tolerance = polygonTolerance(hull, 8, std::sqrt(std::max(1.0, area)));
-  cues.decagon_tolerance = polygonTolerance(hull, 10, std::sqrt(std::max(1.0, area)));
+  const double size = std::sqrt(std::max(1.0, area));  // tolerances relative to the outline's size
+  cues.quad_tolerance = polygonTolerance(hull, 4, size);
+  cues.hexagon_tolerance = polygonTolerance(hull, 6, size);
+  cues.octagon_tolerance = polygonTolerance(hull, 8, size);
+  cues.decagon_tolerance = polygonTolerance(hull, 10, size);
   cv::Mat grey;
   cv::cvtColor(bgr_roi, grey, cv::COLOR_BGR2GRAY);
   const double angle = box.angle * M_PI / 180;  // the direction of box.size.width
