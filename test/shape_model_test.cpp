@@ -201,9 +201,26 @@ TEST(OutlineCues, OutlineAndShadingOfKnownRegions) {
   EXPECT_GT(tube.shading_across, 0.95);
   EXPECT_LT(round.shading_across, 0.7);  // a ball's highlight changes along every direction
   EXPECT_GT(tube.octagon_tolerance, 0.03);  // rounded ends need more than eight vertices, a box's outline six
+  EXPECT_LT(six.decagon_tolerance, 0.01);
+  EXPECT_GT(tube.decagon_tolerance, 0.01);  // and more than ten
+  EXPECT_LT(tube.decagon_tolerance, tube.octagon_tolerance);
   // A region cut by the image border says so.
   EXPECT_GT(outlineCues(panel, bgr, cv::Size(300, 250)).border_share, 0.2);
   EXPECT_THROW(outlineCues(panel, cv::Mat(10, 10, CV_8UC3), square.size()), std::invalid_argument);
+}
+
+TEST(ShapeFeatureRow, HandsOutTheFeaturesInTheNamesOrderAndRefusesMistakes) {
+  const std::vector<std::string>& names = shapeFeatureNames();
+  ASSERT_EQ(static_cast<int>(names.size()), kShapeFeatureCount);
+  ShapeFeatureRow row;
+  for (int i = kShapeFeatureCount - 1; i >= 0; --i) {  // set in reverse: the order is the names'
+    EXPECT_THROW(row.values(), std::logic_error);  // not all set yet
+    row.set(names[i], i + 0.5);
+  }
+  const std::vector<float> values = row.values();
+  for (int i = 0; i < kShapeFeatureCount; ++i) EXPECT_EQ(values[i], i + 0.5F) << names[i];
+  EXPECT_THROW(row.set(names[3], 1.0), std::logic_error);  // set twice
+  EXPECT_THROW(ShapeFeatureRow().set("no_such_feature", 1.0), std::logic_error);
 }
 
 TEST(ShapeModel, KnownCloudsAreNamedRightByTheShippedModel) {

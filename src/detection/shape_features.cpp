@@ -170,4 +170,21 @@ const std::vector<std::string>& shapeFeatureNames() {
   return names;
 }
 
+void ShapeFeatureRow::set(const std::string& name, double value) {
+  const std::vector<std::string>& names = shapeFeatureNames();
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) throw std::logic_error("ShapeFeatureRow::set: no shape feature named " + name);
+  const auto i = static_cast<std::size_t>(it - names.begin());
+  if (set_[i]) throw std::logic_error("ShapeFeatureRow::set: " + name + " set twice");
+  values_[i] = static_cast<float>(value);
+  set_[i] = true;
+}
+
+std::vector<float> ShapeFeatureRow::values() const {
+  for (std::size_t i = 0; i < set_.size(); ++i) {
+    if (!set_[i]) throw std::logic_error("ShapeFeatureRow::values: " + shapeFeatureNames()[i] + " not set");
+  }
+  return values_;
+}
+
 }  // namespace underwater_stereo

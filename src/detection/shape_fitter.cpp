@@ -459,8 +459,8 @@ ShapeFit handMadeDecision(const std::vector<Eigen::Vector3d>& pts, const Pca& p,
 }
 
 /// A fit's residual relative to `range`, 1 when the model could not be fitted.
-float relative(double value_m, double range) {
-  return static_cast<float>(std::isfinite(value_m) ? std::min(1.0, value_m / range) : 1.0);
+double relative(double value_m, double range) {
+  return std::isfinite(value_m) ? std::min(1.0, value_m / range) : 1.0;
 }
 
 /// The features of shapeFeatureNames(): the outline and shading cues, then the fits' evidence.
@@ -501,40 +501,42 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
   }
   const std::size_t second = rest.size() >= 3 ? dominantPlane(rest, tolerance, p.axes.col(2)).inliers : 0;
   const double total = static_cast<double>(pts.size());
-  return {static_cast<float>(cues.outline),
-          static_cast<float>(cues.solidity),
-          static_cast<float>(cues.circularity),
-          static_cast<float>(std::min(cues.aspect, 50.0)),
-          static_cast<float>(cues.rect_fill),
-          static_cast<float>(std::min(cues.corners, 50.0)),
-          static_cast<float>(cues.border_share),
-          static_cast<float>(cues.ellipse_residual),
-          static_cast<float>(cues.quad_tolerance),
-          static_cast<float>(cues.hexagon_tolerance),
-          static_cast<float>(cues.octagon_tolerance),
-          static_cast<float>(cues.decagon_tolerance),
-          static_cast<float>(std::log1p(std::max(0.0, cues.face_contrast))),
-          static_cast<float>(cues.shading_spread),
-          static_cast<float>(cues.shading_linear),
-          static_cast<float>(cues.shading_quadratic),
-          static_cast<float>(cues.shading_across),
-          relative(plane.structure_m, range),
-          relative(sphere.structure_m, range),
-          relative(cylinder.structure_m, range),
-          relative(plane.fit.shape == ShapeKind::kUnknown ? NAN : plane.fit.rmse_m, range),
-          relative(sphere.fit.rmse_m, range),
-          relative(cylinder.fit.shape == ShapeKind::kUnknown ? NAN : cylinder.fit.rmse_m, range),
-          static_cast<float>(std::sqrt(p.variance[1] / std::max(1e-12, p.variance[0]))),
-          static_cast<float>(std::sqrt(p.variance[2] / std::max(1e-12, p.variance[0]))),
-          static_cast<float>(width > 0 ? std::min(5.0, spread / width) : 5.0),
-          static_cast<float>(radius > 0 ? std::clamp((sphere_distance - range) / radius, -5.0, 5.0) : 0.0),
-          static_cast<float>(std::min(elongation, 50.0)),
-          static_cast<float>(std::abs(n.dot(view))),
-          static_cast<float>(first.inliers / total),
-          static_cast<float>((first.inliers + second) / total),
-          static_cast<float>(std::clamp(bulge, -1.0, 1.0)),
-          static_cast<float>(std::log(total)),
-          static_cast<float>(range)};
+  ShapeFeatureRow row;
+  row.set("outline_kind", static_cast<double>(cues.outline));
+  row.set("solidity", cues.solidity);
+  row.set("circularity", cues.circularity);
+  row.set("aspect", std::min(cues.aspect, 50.0));
+  row.set("rect_fill", cues.rect_fill);
+  row.set("corners", std::min(cues.corners, 50.0));
+  row.set("border_share", cues.border_share);
+  row.set("ellipse_residual", cues.ellipse_residual);
+  row.set("quad_tolerance", cues.quad_tolerance);
+  row.set("hexagon_tolerance", cues.hexagon_tolerance);
+  row.set("octagon_tolerance", cues.octagon_tolerance);
+  row.set("decagon_tolerance", cues.decagon_tolerance);
+  row.set("log_face_contrast", std::log1p(std::max(0.0, cues.face_contrast)));
+  row.set("shading_spread", cues.shading_spread);
+  row.set("shading_linear", cues.shading_linear);
+  row.set("shading_quadratic", cues.shading_quadratic);
+  row.set("shading_across", cues.shading_across);
+  row.set("plane_structure", relative(plane.structure_m, range));
+  row.set("sphere_structure", relative(sphere.structure_m, range));
+  row.set("cylinder_structure", relative(cylinder.structure_m, range));
+  row.set("plane_rmse", relative(plane.fit.shape == ShapeKind::kUnknown ? NAN : plane.fit.rmse_m, range));
+  row.set("sphere_rmse", relative(sphere.fit.rmse_m, range));
+  row.set("cylinder_rmse", relative(cylinder.fit.shape == ShapeKind::kUnknown ? NAN : cylinder.fit.rmse_m, range));
+  row.set("pca_middle", std::sqrt(p.variance[1] / std::max(1e-12, p.variance[0])));
+  row.set("pca_smallest", std::sqrt(p.variance[2] / std::max(1e-12, p.variance[0])));
+  row.set("depth_spread", width > 0 ? std::min(5.0, spread / width) : 5.0);
+  row.set("sphere_depth", radius > 0 ? std::clamp((sphere_distance - range) / radius, -5.0, 5.0) : 0.0);
+  row.set("elongation", std::min(elongation, 50.0));
+  row.set("surface_incidence", std::abs(n.dot(view)));
+  row.set("face_share", first.inliers / total);
+  row.set("two_face_share", (first.inliers + second) / total);
+  row.set("bulge", std::clamp(bulge, -1.0, 1.0));
+  row.set("log_points", std::log(total));
+  row.set("range_m", range);
+  return row.values();
 }
 
 }  // namespace

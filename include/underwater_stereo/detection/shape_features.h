@@ -60,4 +60,17 @@ bool onImageBorder(const cv::Point& p, const cv::Size& frame);
 constexpr int kShapeFeatureCount = 34;
 const std::vector<std::string>& shapeFeatureNames();
 
+/// One object's shape features, set by name and handed out in shapeFeatureNames()' order, so that the order a
+/// model reads is kept in that one list. @throw std::logic_error (a build's own mistake, not bad input) from set() for
+/// a name not in the list or set twice, and from values() while any is unset.
+class ShapeFeatureRow {
+ public:
+  void set(const std::string& name, double value);
+  std::vector<float> values() const;
+
+ private:
+  std::vector<float> values_ = std::vector<float>(kShapeFeatureCount);
+  std::vector<bool> set_ = std::vector<bool>(kShapeFeatureCount, false);
+};
+
 }  // namespace underwater_stereo
