@@ -429,11 +429,11 @@ void writeDetections(const std::vector<LabelledFrame>& frames, const std::vector
   if (!out) throw std::runtime_error("--detections-out: cannot be written");
 }
 
-/// The base configuration file with the learnt colours and model, as YAML. The base's shape model stays the one
-/// it names, by absolute path (the written file may lie in another folder).
-void writeConfig(const std::string& base_path, const std::string& out, const std::string& model_name,
+/// The base configuration `root` (as read from `base_path` and validated before learning; the file is not read again)
+/// with the learnt colours and model, as YAML. The base's shape model stays the one it names, by absolute path (the
+/// written file may lie in another folder).
+void writeConfig(YAML::Node root, const std::string& base_path, const std::string& out, const std::string& model_name,
                  const LearningOptions& options, double min_confidence, const std::vector<double>& per_colour) {
-  YAML::Node root = YAML::Load(readWholeFile(base_path));  // read (and validated) once before learning
   if (YAML::Node shape = root["shape"]; shape && shape.IsMap() && shape["model_file"]) {
     const std::filesystem::path file = shape["model_file"].as<std::string>();
     if (file.is_relative()) {
@@ -474,12 +474,14 @@ void writeConfig(const std::string& base_path, const std::string& out, const std
 int main(int argc, char** argv) {
   Options o;
   DetectorConfig base;
+  YAML::Node base_yaml;  // the base as read: what is written besides the learnt colours
   try {
     o = parse(argc, argv);
     if (o.base.empty()) o.base = std::string(UWS_SOURCE_DIR) + "/config/detector.yaml";
     // The base's colour model and check are replaced, never read: a base whose model files are missing serves.
     bool base_has_check = false;
     base = loadDetectorConfigFile(o.base, [&](YAML::Node& root) {
+      base_yaml = YAML::Clone(root);
       if (!root.IsMap() || !root["colour_model"] || !root["colour_model"].IsMap()) return;
       YAML::Node model = root["colour_model"];
       base_has_check = model["check_file"].IsDefined();
@@ -642,7 +644,7 @@ int main(int argc, char** argv) {
     const ColourModel model = learnOn(everything, "all frames");
     const std::string model_path = modelPathOf(o.out);
     model.save(model_path);
-    writeConfig(o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning,
+    writeConfig(base_yaml, o.base, o.out, model_path.substr(model_path.find_last_of('/') + 1), o.learning,
                 o.choose.empty() ? o.min_confidence : o.choose.front(), per_colour);
     loadDetectorConfigFile(o.out);  // what was written must load
     std::printf("\nwrote %s and %s\n", o.out.c_str(), model_path.c_str());
