@@ -166,38 +166,45 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
 /// at its rim is no piece).
 constexpr double kMinPieceShare = 0.05, kMaxPieceShare = 0.8;
 
-/// Where `bgr` steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of its size. The
-/// gradient is taken from the pixels around `area` too, as over the whole image. In fixed point (ln in 1/1024ths,
-/// Sobel in 16 bits): a tenth of the time float images took (~1 ms against ~10 for most of a 960x600 frame).
+/// Where `bgr`'s chromaticity steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of
+/// its size. The gradient of ln(R / G) and ln(B / G) (each channel as ln((I + 4) / 4)) is taken from the pixels around
+/// `area` too, as over the whole image. Chromaticity, not brightness: shading, caustics and a lit face change the
+/// brightness of one object, while two touching objects of two colours differ in chromaticity even where they are
+/// equally bright (docs/accuracy.md, "Touching objects cut where their chromaticity steps"). In fixed point (ln in
+/// 1/256ths, Sobel in 16 bits without saturation): a tenth of the time float images took.
 cv::Mat stepsIn(const cv::Mat& bgr, const cv::Rect& area, double step) {
-  constexpr double kOne = 1024;  // ln((255 + 4) / 4) * 1024 * 4 (Sobel's largest) fits 16 bits
+  constexpr double kOne = 256;  // ln((255 + 4) / 4) * 256 * 2 (a ratio's range) * 4 (Sobel's largest) fits 16 bits
   static const std::array<std::int16_t, 256> log_table = [] {
     std::array<std::int16_t, 256> t{};
     for (int v = 0; v < 256; ++v) t[v] = static_cast<std::int16_t>(std::lround(kOne * std::log((v + 4.0) / 4.0)));
     return t;
   }();
   const cv::Rect padded = (area + cv::Size(2, 2) - cv::Point(1, 1)) & cv::Rect(cv::Point(), bgr.size());
-  cv::Mat log_image(padded.size(), CV_16SC3);
+  cv::Mat log_ratios(padded.size(), CV_16SC2);
   for (int y = 0; y < padded.height; ++y) {
     const std::uint8_t* in = bgr.ptr<std::uint8_t>(padded.y + y) + 3 * padded.x;
-    auto* out = log_image.ptr<std::int16_t>(y);
-    for (int x = 0; x < 3 * padded.width; ++x) out[x] = log_table[in[x]];
+    auto* out = log_ratios.ptr<std::int16_t>(y);
+    for (int x = 0; x < padded.width; ++x) {
+      const int green = log_table[in[3 * x + 1]];
+      out[2 * x] = static_cast<std::int16_t>(log_table[in[3 * x + 2]] - green);  // ln R/G
+      out[2 * x + 1] = static_cast<std::int16_t>(log_table[in[3 * x]] - green);  // ln B/G
+    }
   }
   cv::Mat gx, gy;
-  cv::Sobel(log_image, gx, CV_16S, 1, 0, 3);
-  cv::Sobel(log_image, gy, CV_16S, 0, 1, 3);
+  cv::Sobel(log_ratios, gx, CV_16S, 1, 0, 3);
+  cv::Sobel(log_ratios, gy, CV_16S, 0, 1, 3);
   const cv::Rect inner = area - padded.tl();
   cv::Mat steps(area.size(), CV_8UC1);
   const double per_pixel = step * 8 * kOne;  // Sobel's weights sum to 8
   const auto limit = static_cast<std::uint32_t>(std::min(per_pixel * per_pixel, 4e9));
   for (int y = 0; y < area.height; ++y) {
-    const auto* dx = gx.ptr<std::int16_t>(inner.y + y) + 3 * inner.x;
-    const auto* dy = gy.ptr<std::int16_t>(inner.y + y) + 3 * inner.x;
+    const auto* dx = gx.ptr<std::int16_t>(inner.y + y) + 2 * inner.x;
+    const auto* dy = gy.ptr<std::int16_t>(inner.y + y) + 2 * inner.x;
     auto* o = steps.ptr<std::uint8_t>(y);
     for (int x = 0; x < area.width; ++x) {
       std::uint32_t g = 0;
-      for (int c = 0; c < 3; ++c) {
-        g += static_cast<std::uint32_t>(dx[3 * x + c] * dx[3 * x + c]) + static_cast<std::uint32_t>(dy[3 * x + c] * dy[3 * x + c]);
+      for (int c = 0; c < 2; ++c) {
+        g += static_cast<std::uint32_t>(dx[2 * x + c] * dx[2 * x + c]) + static_cast<std::uint32_t>(dy[2 * x + c] * dy[2 * x + c]);
       }
       o[x] = g > limit ? 255 : 0;
     }

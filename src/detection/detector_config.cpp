@@ -129,7 +129,7 @@ const std::vector<DetectorTunable>& detectorTunables() {
       {"colour_model", "max_proposals", 1, 10000, nullptr, "Proposals per frame, the most salient kept",
        UWS_INT(learned.proposals.max_proposals)},
       {"colour_model", "piece_step", 0, 10, nullptr,
-       "Large regions also cut along steps of ln((I + 4) / 4) over this per pixel, for touching objects (0: never)",
+       "Large regions also cut where ln(R/G) and ln(B/G) step over this per pixel, for touching objects (0: never)",
        UWS_REAL(learned.proposals.piece_step)},
       {"stereo", "min_depth_m", 0.1, 50, "min_depth_m", "Workspace: nearest depth searched [m]",
        UWS_REAL(stereo.min_depth_m)},
