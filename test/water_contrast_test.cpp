@@ -270,6 +270,45 @@ TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
                std::invalid_argument) << "not BGR";
 }
 
+// The steps that cut pieces are the image's chromaticity's (ln R/G, ln B/G), not its brightness's: an orange and a
+// yellow panel side by side (the yellow a little brighter) are cut apart, while one panel lit on its left half and
+// shaded on its right (60 %: a step of ln 0.6 in every channel) is not cut along its shading.
+TEST(BlobProposals, PiecesFollowChromaticityStepsNotShading) {
+  const cv::Vec3d water = kWaters[1].veil;
+  const cv::Rect left(200, 180, 120, 120), right(320, 180, 120, 120);
+  const auto near = [](const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0.8 * (a | b).area(); };
+  cv::Mat two_colours = frameWith(water, seen({20, 30, 200}, water, 0.6), {320, 240}, 0, 17);
+  two_colours(left).setTo(cv::Scalar(60, 150, 240));   // orange (BGR)
+  two_colours(right).setTo(cv::Scalar(80, 215, 220));  // yellow
+  cv::Mat shaded = frameWith(water, seen({20, 30, 200}, water, 0.6), {320, 240}, 0, 17);
+  shaded(left).setTo(cv::Scalar(60, 150, 240));
+  shaded(right).setTo(cv::Scalar(36, 90, 144));  // the same orange at 60 %
+  ProposalConfig config;
+  config.min_area_px = 25;
+  for (const cv::Mat& frame : {two_colours, shaded}) {
+    const WaterContrast contrast = measureWaterContrast(frame, {});
+    const std::vector<BlobProposal> found = proposeBlobs(frame, contrast, config);
+    std::vector<const BlobProposal*> regions;
+    bool whole = false;
+    for (const BlobProposal& b : found) {
+      whole |= near(b.roi, left | right);
+      regions.push_back(&b);
+    }
+    const std::vector<BlobProposal> cut = cutIntoPieces(frame, contrast, regions, config);
+    bool on_left = false, on_right = false;
+    for (const BlobProposal& b : cut) {
+      on_left |= near(b.roi, left);
+      on_right |= near(b.roi, right);
+    }
+    if (frame.data == two_colours.data) {
+      ASSERT_TRUE(whole) << "the two panels are one region";
+      EXPECT_TRUE(on_left && on_right) << cut.size() << " pieces";
+    } else {
+      EXPECT_TRUE(cut.empty()) << cut.size() << " pieces of a panel cut along its shading";
+    }
+  }
+}
+
 // squareDilation gives what cv::dilate gives, on masks of every width (whole SIMD lanes, tails, a single
 // pixel) and radii, with blobs touching the edges.
 TEST(BlobProposals, SquareDilationEqualsOpenCvs) {
