@@ -304,6 +304,7 @@ TEST(BlobProposals, PiecesFollowChromaticityStepsNotShading) {
       ASSERT_TRUE(whole) << "the two panels are one region";
       EXPECT_TRUE(on_left && on_right) << cut.size() << " pieces";
     } else {
+      ASSERT_TRUE(whole) << "the panel, lit and shaded, is one region";
       EXPECT_TRUE(cut.empty()) << cut.size() << " pieces of a panel cut along its shading";
     }
   }
