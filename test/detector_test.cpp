@@ -84,7 +84,7 @@ TEST(Detector, TouchingBuoysOfTwoColoursAreBothFound) {
   const sim::Renderer renderer(scene);
   const sim::RenderedPair pair = renderer.render(0.0, 0);
   ASSERT_GT((pair.ground_truth[0].roi_left & pair.ground_truth[1].roi_left).area(), 0) << "the buoys touch";
-  for (const double step : {0.15, 0.0}) {
+  for (const double step : {defaultConfig().learned.proposals.piece_step, 0.0}) {
     DetectorConfig config = defaultConfig();
     config.learned.proposals.piece_step = step;
     const DetectionResult r = Detector(config, renderer.calibration()).detect(pair.left, pair.right);

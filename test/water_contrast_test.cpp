@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+#include <algorithm>
 #include <random>
 #include <utility>
 #include <vector>
@@ -223,34 +224,52 @@ TEST(BlobProposals, CuttingOnlyTheSalientBandChangesNothing) {
   }
 }
 
+namespace {
+
+/// Whether boxes `a` and `b` are nearly the same (their intersection over 80 % of their union).
+bool nearlyBox(const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0.8 * (a | b).area(); }
+
+/// The regions proposed in `frame` and the pieces cutIntoPieces cuts them into.
+struct ProposedAndCut {
+  std::vector<BlobProposal> regions, pieces;
+};
+
+ProposedAndCut proposeAndCut(const cv::Mat& frame, const ProposalConfig& config) {
+  const WaterContrast contrast = measureWaterContrast(frame, {});
+  ProposedAndCut out;
+  out.regions = proposeBlobs(frame, contrast, config);
+  std::vector<const BlobProposal*> regions;
+  for (const BlobProposal& b : out.regions) regions.push_back(&b);
+  out.pieces = cutIntoPieces(frame, contrast, regions, config);
+  return out;
+}
+
+}  // namespace
+
 // A green panel in front of a red buoy is one region at every level, which its steps cut into pieces, one on each
 // object; a lone buoy, and the pair with piece_step 0, give no piece.
 TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
   const cv::Vec3d water = kWaters[0].veil;
   const cv::Rect buoy(270, 170, 50, 61), panel(320, 150, 90, 100);  // the buoy's visible part
-  const auto near = [](const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0.8 * (a | b).area(); };
   const cv::Mat lone = frameWith(water, seen({20, 30, 200}, water, 0.6), {300, 200}, 30, 3);
   cv::Mat pair = lone.clone();
   pair(panel).setTo(cv::Scalar(seen({40, 160, 30}, water, 0.6)));
   ProposalConfig config;
   config.min_area_px = 25;
-  for (const auto& [frame, step] : {std::pair{lone, 0.15}, std::pair{pair, 0.15}, std::pair{pair, 0.0}}) {
+  const double shipped = config.piece_step;
+  for (const auto& [frame, step] : {std::pair{lone, shipped}, std::pair{pair, shipped}, std::pair{pair, 0.0}}) {
     config.piece_step = step;
-    const WaterContrast contrast = measureWaterContrast(frame, {});
-    const std::vector<BlobProposal> found = proposeBlobs(frame, contrast, config);
-    std::vector<const BlobProposal*> regions;
+    const ProposedAndCut cut = proposeAndCut(frame, config);
     bool whole = false, on_buoy = false, on_panel = false;
-    for (const BlobProposal& b : found) {
+    for (const BlobProposal& b : cut.regions) {
       EXPECT_FALSE(b.piece);
-      whole |= near(b.roi, buoy | panel);
-      regions.push_back(&b);
+      whole |= nearlyBox(b.roi, buoy | panel);
     }
-    const std::vector<BlobProposal> cut = cutIntoPieces(frame, contrast, regions, config);
-    const int pieces = static_cast<int>(cut.size());
-    for (const BlobProposal& b : cut) {
+    const int pieces = static_cast<int>(cut.pieces.size());
+    for (const BlobProposal& b : cut.pieces) {
       EXPECT_TRUE(b.piece);
-      on_buoy |= near(b.roi, buoy);
-      on_panel |= near(b.roi, panel);
+      on_buoy |= nearlyBox(b.roi, buoy);
+      on_panel |= nearlyBox(b.roi, panel);
       ASSERT_EQ(b.features.size(), static_cast<std::size_t>(kBlobFeatureCount));
     }
     if (frame.data == lone.data) {
@@ -276,7 +295,6 @@ TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
 TEST(BlobProposals, PiecesFollowChromaticityStepsNotShading) {
   const cv::Vec3d water = kWaters[1].veil;
   const cv::Rect left(200, 180, 120, 120), right(320, 180, 120, 120);
-  const auto near = [](const cv::Rect& a, const cv::Rect& b) { return (a & b).area() > 0.8 * (a | b).area(); };
   cv::Mat two_colours = frameWith(water, seen({20, 30, 200}, water, 0.6), {320, 240}, 0, 17);
   two_colours(left).setTo(cv::Scalar(60, 150, 240));   // orange (BGR)
   two_colours(right).setTo(cv::Scalar(80, 215, 220));  // yellow
@@ -286,26 +304,20 @@ TEST(BlobProposals, PiecesFollowChromaticityStepsNotShading) {
   ProposalConfig config;
   config.min_area_px = 25;
   for (const cv::Mat& frame : {two_colours, shaded}) {
-    const WaterContrast contrast = measureWaterContrast(frame, {});
-    const std::vector<BlobProposal> found = proposeBlobs(frame, contrast, config);
-    std::vector<const BlobProposal*> regions;
-    bool whole = false;
-    for (const BlobProposal& b : found) {
-      whole |= near(b.roi, left | right);
-      regions.push_back(&b);
-    }
-    const std::vector<BlobProposal> cut = cutIntoPieces(frame, contrast, regions, config);
+    const ProposedAndCut cut = proposeAndCut(frame, config);
+    const bool whole = std::any_of(cut.regions.begin(), cut.regions.end(),
+                                   [&](const BlobProposal& b) { return nearlyBox(b.roi, left | right); });
     bool on_left = false, on_right = false;
-    for (const BlobProposal& b : cut) {
-      on_left |= near(b.roi, left);
-      on_right |= near(b.roi, right);
+    for (const BlobProposal& b : cut.pieces) {
+      on_left |= nearlyBox(b.roi, left);
+      on_right |= nearlyBox(b.roi, right);
     }
     if (frame.data == two_colours.data) {
       ASSERT_TRUE(whole) << "the two panels are one region";
-      EXPECT_TRUE(on_left && on_right) << cut.size() << " pieces";
+      EXPECT_TRUE(on_left && on_right) << cut.pieces.size() << " pieces";
     } else {
       ASSERT_TRUE(whole) << "the panel, lit and shaded, is one region";
-      EXPECT_TRUE(cut.empty()) << cut.size() << " pieces of a panel cut along its shading";
+      EXPECT_TRUE(cut.pieces.empty()) << cut.pieces.size() << " pieces of a panel cut along its shading";
     }
   }
 }
