@@ -302,6 +302,30 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
       "</object><object><name>yellow</name>" + box + "</object></annotation>");
   EXPECT_NE(messageOf([&] { readVocLabels(twice); }).find("object 1 (yellow): box [10, 5, 30, 25] is also object 0's (red)"),
             std::string::npos) << messageOf([&] { readVocLabels(twice); });
+  // The same object boxed again a pixel off in another colour: taught as both (the last one winning) unless refused.
+  const std::string nearly = writeTemp("nearly.xml", "<annotation><object><name>yellow</name>" + box +
+      "</object><object><name>buoy_green</name><bndbox><xmin>10</xmin><ymin>5</ymin><xmax>31</xmax><ymax>25</ymax>"
+      "</bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(nearly); })
+                .find("object 1 (buoy_green): box [10, 5, 31, 25] is nearly object 0's (yellow, [10, 5, 30, 25])"),
+            std::string::npos) << messageOf([&] { readVocLabels(nearly); });
+  // What a reader would otherwise drop without a word: a second annotation joined on, a second box, name or corner.
+  const std::string joined = writeTemp("joined.xml", "<annotation><object><name>red</name>" + box +
+      "</object></annotation><annotation><object><name>green</name>" + box + "</object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(joined); }).find(joined + ": a second <annotation> after the <annotation>"),
+            std::string::npos) << messageOf([&] { readVocLabels(joined); });
+  const std::string two_boxes = writeTemp("two_boxes.xml", "<annotation><object><name>red</name>" + box + box +
+      "</object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(two_boxes); }).find("object 0 (red) has two <bndbox>"), std::string::npos)
+      << messageOf([&] { readVocLabels(two_boxes); });
+  const std::string two_names = writeTemp("two_names.xml", "<annotation><object><name>red</name><name>green</name>" +
+      box + "</object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(two_names); }).find("object 0 has two <name>"), std::string::npos)
+      << messageOf([&] { readVocLabels(two_names); });
+  const std::string two_corners = writeTemp("two_corners.xml", "<annotation><object><name>red</name><bndbox><xmin>10"
+      "</xmin><xmin>12</xmin><ymin>5</ymin><xmax>30</xmax><ymax>25</ymax></bndbox></object></annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(two_corners); }).find("object 0 (red) has two <xmin>"), std::string::npos)
+      << messageOf([&] { readVocLabels(two_corners); });
 
   LabelledFrame f;
   f.name = "frame_7.jpg";

@@ -6,9 +6,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <sys/wait.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
@@ -178,6 +182,37 @@ TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   EXPECT_EQ(g.lines[0], "detect_files: " + path("grey.png") +
                             ": a grey image (its three channels equal): no colour can be named in it\n");
   EXPECT_NE(g.lines[1].find("\"id\": null"), std::string::npos) << g.lines[1];
+}
+
+TEST_F(DetectFiles, NeitherAMadeUpRangeNorALostResultGoesUnsaid) {
+  // One image as both views is skipped, named (its objects' ranges would be made up); the true pair is still measured.
+  std::ofstream(path("pairs.txt")) << path("left.png") << " " << path("left.png") << "\n"
+                                   << path("left.png") << " " << path("right.png") << "\n";
+  const ToolRun twice = run("--list " + path("pairs.txt") + " --left-info " + path("left.yaml") + " --right-info " +
+                            path("right.yaml"), true);
+  EXPECT_EQ(twice.status, 1);
+  int ranged = 0, named = 0;
+  for (const std::string& l : twice.lines) {
+    ranged += l.find("\"range\"") != std::string::npos;
+    named += l.find("the left and right frames are the same image") != std::string::npos;
+  }
+  EXPECT_EQ(ranged, static_cast<int>(pair_.ground_truth.size()));
+  EXPECT_EQ(named, 1);
+  // A name that is a file as it is stays that file, though it reads as a pattern (img[1].png is not img1.png).
+  std::filesystem::copy_file(path("left.png"), path("img[1].png"));
+  cv::imwrite(path("img1.png"), cv::Mat(pair_.left.size(), CV_8UC3, cv::Scalar(90, 80, 20)));
+  const ToolRun literal = run("--image '" + path("img[1].png") + "'");
+  ASSERT_EQ(literal.status, 0);
+  ASSERT_EQ(literal.lines.size(), pair_.ground_truth.size());
+  EXPECT_NE(literal.lines[0].find("img[1].png"), std::string::npos) << literal.lines[0];
+  // Results that cannot be written (a full disk) stop the run with exit 1 and say so, not exit 0.
+  const std::string log = path("full.log");
+  const int status = std::system((std::string(UWS_DETECT_FILES) + " --image " + path("left.png") + " --image " +
+                                  path("left.png") + " > /dev/full 2> " + log).c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream in(log);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(said.find("the results cannot be written to standard output"), std::string::npos) << said;
 }
 
 TEST_F(DetectFiles, ExplainListsWhatWasLookedAtAndNotReportedWithWhy) {

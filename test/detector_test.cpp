@@ -315,6 +315,22 @@ TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
   EXPECT_EQ(swapped, 2);
 }
 
+TEST(Detector, OneImageGivenAsBothViewsIsRefusedNotRanged) {
+  const sim::Renderer renderer(twoBuoys());
+  Detector detector(defaultConfig(), renderer.calibration());
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const cv::Mat copy = pair.left.clone();  // the same pixels in another buffer, as a second file holds them
+  for (const cv::Mat& right : {pair.left, copy}) {
+    try {
+      detector.detect(pair.left, right);
+      ADD_FAILURE() << "one image as both views gave objects at made-up ranges";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("the same image"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(detector.detect(pair.left, pair.right).objects.size(), 2U);  // a true pair still measured
+}
+
 TEST(Detector, TwoDimensionalModeNeedsNoCalibration) {
   const sim::Renderer renderer(twoBuoys());
   Detector detector(defaultConfig());

@@ -68,6 +68,7 @@ TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
                {"scene.yaml --size 640x400", "--size goes with --random or --paper-brightness, not with scene"},
                {"--random 2 --size 10x10", "--size 10x10: width"},
                {"--random 2 --size 640x400x3", "--size: '640x400x3' is not WIDTHxHEIGHT"},
+               {"--random 2 --size 4294967936x400", "--size: '4294967936x400' is not WIDTHxHEIGHT"},
                {"--random 2 --luma 40,12", "--luma 40,12: target_luma"},
                {"--random 2 --luma 12", "--luma: '12' is not LO,HI"},
                {"--paper-brightness --luma 12,40", "--luma goes with --random, not with --paper-brightness"},

@@ -49,8 +49,14 @@ TEST(LearnColours, AConfigLearntOverTheDefaultLoadsFromAnotherFolder) {
   EXPECT_EQ(c.learned.model->colours(), (std::vector<std::string>{"red", "green"}));
   EXPECT_FALSE(c.learned.check);
 
-  // A base whose colour model and check are missing serves as well: both are replaced, never read.
+  // A base whose colour model and check are missing serves as well: both are replaced, never read; and a colour the
+  // base does not list (green, dropped from it) is learnt and written by its name.
   YAML::Node moved = YAML::LoadFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  YAML::Node without_green(YAML::NodeType::Sequence);
+  for (const YAML::Node& colour : moved["colours"]) {
+    if (colour["name"].as<std::string>() != "green") without_green.push_back(colour);
+  }
+  moved["colours"] = without_green;
   moved["colour_model"]["file"] = (dir / "missing.colour_model.yml.gz").string();
   moved["colour_model"]["check_file"] = (dir / "missing.check_model.yml.gz").string();
   moved["shape"]["model_file"] = UWS_SOURCE_DIR "/config/" + moved["shape"]["model_file"].as<std::string>();
@@ -59,7 +65,10 @@ TEST(LearnColours, AConfigLearntOverTheDefaultLoadsFromAnotherFolder) {
   from_moved.replace(from_moved.find(UWS_SOURCE_DIR "/config/detector.yaml"),
                      std::string(UWS_SOURCE_DIR "/config/detector.yaml").size(), (dir / "moved.yaml").string());
   ASSERT_EQ(runTool(from_moved, dir / "learn_moved.log"), 0) << readText(dir / "learn_moved.log");
-  EXPECT_TRUE(loadDetectorConfigFile((dir / "pool/pool.yaml").string()).learned.model);
+  const DetectorConfig from_it = loadDetectorConfigFile((dir / "pool/pool.yaml").string());
+  EXPECT_TRUE(from_it.learned.model);
+  ASSERT_EQ(from_it.colours.classes.size(), 2U);
+  EXPECT_EQ(from_it.colours.classes[1].name, "green");
   fs::remove_all(dir);
 }
 
@@ -125,6 +134,14 @@ TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
       << readText(dir / "learn.log");
   EXPECT_EQ(runTool(learn + " --detections-out " + (dir / "out.yaml").string(), dir / "learn.log"), 2);
   EXPECT_NE(readText(dir / "learn.log").find("out.yaml is also --out"), std::string::npos) << readText(dir / "learn.log");
+  // The colour model is written beside --out: a folder in its place is named before anything is learnt.
+  fs::create_directories(dir / "out.colour_model.yml.gz");
+  EXPECT_EQ(runTool(learn, dir / "learn.log"), 2);
+  EXPECT_NE(readText(dir / "learn.log").find("--out's colour model " + (dir / "out.colour_model.yml.gz").string() +
+                                             " is a folder"),
+            std::string::npos)
+      << readText(dir / "learn.log");
+  fs::remove(dir / "out.colour_model.yml.gz");
   EXPECT_EQ(runTool(learn + " --folds 2.5", dir / "learn.log"), 2);
   EXPECT_NE(readText(dir / "learn.log").find("--folds: '2.5' is not a whole number in [1, 100]"), std::string::npos)
       << readText(dir / "learn.log");
@@ -266,6 +283,23 @@ TEST(LearnChecksAndShapes, BadRecordsAndOutputsAreNamed) {
             1);
   EXPECT_NE(readText(dir / "learn.log").find("bad_shape.json: seed 9: malformed record"), std::string::npos)
       << readText(dir / "learn.log");
+  // A feature written .nan or .inf (evaluate_detector writes null for what it could not compute): refused by both.
+  row = "[.nan";
+  for (int i = 1; i < kShapeFeatureCount; ++i) row += ", 0.5";
+  std::ofstream(dir / "nan_shape.json")
+      << "{\"pairs\": [{\"seed\": 9, \"objects\": [{\"eligible\": true, \"found\": true, \"shape\": \"sphere\", "
+         "\"detected\": {\"shape_features\": " + row + "]}}]}]}";
+  std::string nan_checks = records(checkFeatureNames(base.learned.model->colours()).size(), true);
+  nan_checks.replace(nan_checks.find("[0.000000"), 9, "[-.inf");
+  std::ofstream(dir / "nan_checks.json") << nan_checks;
+  for (const auto& [learner, file] : {std::make_pair(learners[0], "nan_checks.json"),
+                                      std::make_pair(learners[1], "nan_shape.json")}) {
+    EXPECT_EQ(runTool(learner + " --out " + model + " " + (dir / file).string(), dir / "learn.log"), 1) << learner;
+    const std::string log = readText(dir / "learn.log");
+    EXPECT_NE(log.find(std::string(file) + ": seed "), std::string::npos) << log;
+    EXPECT_NE(log.find("not a finite number"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(model)) << learner;
+  }
   // A pair that is no map at all.
   std::ofstream(dir / "scalar.json") << "{\"config\": \"c --without-check\", \"pairs\": [3]}";
   for (const std::string& learner : learners) {

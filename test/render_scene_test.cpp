@@ -132,7 +132,9 @@ TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
                {"--size 320", "--size: '320' is not WIDTHxHEIGHT"}, {"--luma 5,300", "--luma 5,300: target_luma"},
                {"--luma 40,12", "--luma 40,12: target_luma"}, {"--luma 12,40x", "--luma: '12,40x' is not LO,HI"},
                {"--luma 12", "--luma: '12' is not LO,HI"},
-               {"--size 640x401", "--size 640x401: width and height must be even"}};
+               {"--size 640x401", "--size 640x401: width and height must be even"},
+               // Beyond an int: refused, not wrapped around to 640x400.
+               {"--size 4294967936x4294967696", "--size: '4294967936x4294967696' is not WIDTHxHEIGHT"}};
   for (const auto& c : cases) {
     EXPECT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --random 1 " + c.option + " --out " +
                                              out.string(),

@@ -21,6 +21,9 @@ namespace {
 /// Between this overlap with a labelled object (intersection over union) and kMatchIou a proposal is part of
 /// an object or the object with its surroundings: neither example nor background.
 constexpr double kIgnoreIou = 0.05;
+/// Two labels of one frame whose boxes share this much of their union label one object twice (a box drawn again a
+/// pixel or two off, perhaps with another colour): never two objects, one hidden exactly behind the other.
+constexpr double kSameObjectIou = 0.9;
 
 std::string trimmed(const std::string& s) {
   const std::size_t a = s.find_first_not_of(" \t\r\n"), b = s.find_last_not_of(" \t\r\n");
@@ -58,6 +61,14 @@ bool decimalNumber(const std::string& text, double& out) {
   }
   out = v;
   return true;
+}
+
+/// `parent`'s child element `key` (nullptr when it has none). @throw std::invalid_argument "`where` has two <key>"
+/// when it has more than one: which of them the labeller meant is not for a reader to guess.
+const tinyxml2::XMLElement* onlyChild(const tinyxml2::XMLElement& parent, const char* key, const std::string& where) {
+  const tinyxml2::XMLElement* child = parent.FirstChildElement(key);
+  if (child && child->NextSiblingElement(key)) throw std::invalid_argument(where + " has two <" + key + ">");
+  return child;
 }
 
 /// The image size a VOC <annotation>'s <size> declares (empty when it has none, or a side of 0). @throw
@@ -101,24 +112,28 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
   }
   const tinyxml2::XMLElement* annotation = doc.RootElement();
   if (!annotation || std::string(annotation->Name()) != "annotation") throw std::invalid_argument(not_voc);
+  if (annotation->NextSiblingElement()) {  // files joined: the second's objects would be learnt as background
+    throw std::invalid_argument(path + ": a second <" + std::string(annotation->NextSiblingElement()->Name()) +
+                                "> after the <annotation> (two annotations joined in one file?)");
+  }
   if (declared_size != nullptr) *declared_size = declaredSize(*annotation, path);
   std::vector<LabelBox> out;
   int index = 0;
   for (const tinyxml2::XMLElement* object = annotation->FirstChildElement("object"); object;
        object = object->NextSiblingElement("object"), ++index) {
     const std::string where = path + ": object " + std::to_string(index);
-    const tinyxml2::XMLElement* name = object->FirstChildElement("name");
+    const tinyxml2::XMLElement* name = onlyChild(*object, "name", where);
     LabelBox label;
     label.name = trimmed(name && name->GetText() ? name->GetText() : "");
     if (label.name.empty()) throw std::invalid_argument(where + " has no <name>");
     const std::string named = where + " (" + label.name + ")";
-    const tinyxml2::XMLElement* box = object->FirstChildElement("bndbox");  // a <part>'s box is the part's
+    const tinyxml2::XMLElement* box = onlyChild(*object, "bndbox", named);  // a <part>'s box is the part's
     if (!box) throw std::invalid_argument(named + " has no <bndbox>");
     double v[4];
     std::string written[4];  // as the file writes them, for messages
     const char* keys[4] = {"xmin", "ymin", "xmax", "ymax"};
     for (int k = 0; k < 4; ++k) {
-      const tinyxml2::XMLElement* field = box->FirstChildElement(keys[k]);
+      const tinyxml2::XMLElement* field = onlyChild(*box, keys[k], named);
       if (!field) throw std::invalid_argument(named + " has no <" + keys[k] + ">");
       const std::string& value = written[k] = trimmed(field->GetText() ? field->GetText() : "");
       if (!decimalNumber(value, v[k])) {
@@ -137,9 +152,12 @@ std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_
     label.box = cv::Rect(x0, y0, std::max(1, static_cast<int>(std::ceil(v[2])) - x0),
                          std::max(1, static_cast<int>(std::ceil(v[3])) - y0));
     for (std::size_t j = 0; j < out.size(); ++j) {
-      if (out[j].box == label.box) {  // twice the weight, or two colours for one object: a labelling slip
-        throw std::invalid_argument(named + ": box " + boxText(label.box) + " is also object " + std::to_string(j) +
-                                    "'s (" + out[j].name + ")");
+      // Twice the weight, or two colours for one object (perhaps drawn again a pixel off): a labelling slip.
+      if (boxIou(out[j].box, label.box) >= kSameObjectIou) {
+        const bool same = out[j].box == label.box;
+        throw std::invalid_argument(named + ": box " + boxText(label.box) + " is " + (same ? "also" : "nearly") +
+                                    " object " + std::to_string(j) + "'s (" + out[j].name +
+                                    (same ? "" : ", " + boxText(out[j].box)) + "): one object labelled twice");
       }
     }
     out.push_back(label);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -330,6 +331,18 @@ Detection describe2d(const Candidate& c, const cv::Mat& left_roi, const cv::Size
   return d;
 }
 
+/// Whether `a` and `b` hold the same pixels in the same layout (row by row: two cameras' frames differ by their
+/// noise in the first row, so the comparison ends there).
+bool sameImage(const RawFrame& a, const RawFrame& b) {
+  const cv::Mat &x = a.data(), &y = b.data();
+  if (a.layout() != b.layout() || x.size() != y.size() || x.type() != y.type()) return false;
+  const std::size_t row_bytes = x.cols * x.elemSize();
+  for (int r = 0; r < x.rows; ++r) {
+    if (std::memcmp(x.ptr(r), y.ptr(r), row_bytes) != 0) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 Detector::Detector(const DetectorConfig& config, const StereoCalibration& calibration)
@@ -478,6 +491,12 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   if (front.candidates.empty()) {
     result.timings.total_ms = total.lapMs();
     return result;
+  }
+  // One image as both views (a file given twice, a driver sending one buffer to both topics) would give every object
+  // the disparity of the workspace's far end or a match of its texture with itself: a plausible, wrong range.
+  if (sameImage(left, right)) {
+    throw std::invalid_argument("Detector::detect: the left and right frames are the same image (one file given "
+                                "twice, or one camera's buffer sent as both): no range can be measured");
   }
   // The right frame's colour mask (for the silhouettes) only where each object's silhouette can be, or the
   // whole frame when contrast enhancement (CLAHE: tiles over the whole frame) has to match the left's.

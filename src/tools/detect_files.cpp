@@ -29,7 +29,8 @@ const char* kUsage =
     "usage: detect_files [--config detector.yaml] --left L --right R --left-info left.yaml --right-info right.yaml\n"
     "       detect_files [--config detector.yaml] --image X [--image Y ...]\n"
     "       detect_files [--config detector.yaml] [--left-info .. --right-info ..] --list FILE\n"
-    "  --left/--right  image files or quoted glob patterns ('dir/left_*.png'); matched in sorted order\n"
+    "  --left/--right  image files or quoted glob patterns ('dir/left_*.png'); matched in sorted order (a name\n"
+    "                  that is a file as it is, such as 'img[1].png', is that file)\n"
     "  --left-info     camera_info YAML as camera_calibration writes it (also --right-info)\n"
     "  --image         2D only: no right image, no calibration (colour, outline, roi, quality); repeatable\n"
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments;\n"
@@ -41,8 +42,9 @@ const char* kUsage =
     "or one line with \"id\": null for a frame without detections; each frame's lines are written as soon as\n"
     "it is done. Unreadable, truncated or corrupt images, and images whose size the detector cannot take\n"
     "(or that differs from the calibration's), are reported on stderr naming the file and skipped; the other\n"
-    "frames are still reported and the exit status is then 1. Bad options, configuration or calibration:\n"
-    "exit 2, nothing processed. An unexpected internal error: exit 3. 16-bit images are read scaled to 8 bits,\n"
+    "frames are still reported and the exit status is then 1 (so too a pair whose two images are the same).\n"
+    "A standard output that cannot be written (disk full) stops the run, exit 1. Bad options, configuration or\n"
+    "calibration: exit 2, nothing processed. An unexpected internal error: exit 3. 16-bit images are read scaled to 8 bits,\n"
     "floating-point ones (TIFF) as brightness 0..1 (one whose median pixel exceeds 1 is skipped as scaled\n"
     "otherwise); CMYK JPEGs as OpenCV reads them; a grey image is searched and said on stderr to hold no colour.\n";
 
@@ -52,20 +54,19 @@ struct Options {
   bool explain = false;
 };
 
-/// The files `pattern` (given as `option`) matches, in sorted order; a plain name as it is (a missing file is
-/// reported when read). @throw std::invalid_argument when a pattern matches nothing (and names no file as it is).
+/// The files `pattern` (given as `option`) matches, in sorted order; a name that is a file as it is stays that file
+/// (img[1].png is not img1.png), and a plain name stays as it is (a missing file is reported when read).
+/// @throw std::invalid_argument when a pattern matches nothing.
 std::vector<std::string> expand(const std::string& option, const std::string& pattern) {
+  std::error_code error;
+  if (pattern.find_first_of("*?[") == std::string::npos || std::filesystem::exists(pattern, error)) return {pattern};
   glob_t g{};
   std::vector<std::string> out;
   if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
     for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
   }
   ::globfree(&g);
-  std::error_code error;
-  if (out.empty() && pattern.find_first_of("*?[") != std::string::npos && !std::filesystem::exists(pattern, error)) {
-    throw std::invalid_argument(option + " '" + pattern + "': no file matches the pattern");
-  }
-  if (out.empty()) out.push_back(pattern);
+  if (out.empty()) throw std::invalid_argument(option + " '" + pattern + "': no file matches the pattern");
   return out;
 }
 
@@ -215,6 +216,11 @@ cv::Mat readImage(const std::string& path) {
   }
 }
 
+/// Standard output refused the results (a full disk, a closed pipe): every later frame's would be lost too.
+struct ResultsUnwritable : std::runtime_error {
+  ResultsUnwritable() : std::runtime_error("the results cannot be written to standard output (disk full, or closed?)") {}
+};
+
 /// The frame's lines, written out at once (a run stopped later keeps them).
 void print(const std::string& file, const DetectionResult& r, bool with_3d, bool explain) {
   if (r.looks_swapped) {
@@ -229,6 +235,7 @@ void print(const std::string& file, const DetectionResult& r, bool with_3d, bool
     std::cout << rejectionJson(file, rejected) << '\n';
   }
   std::cout.flush();
+  if (!std::cout) throw ResultsUnwritable();
 }
 
 /// Runs `detect` on one frame and prints its result; false (reported naming `name`) when it fails.
@@ -237,6 +244,8 @@ bool runFrame(const std::string& name, const std::string& file, bool with_3d, bo
   try {
     print(file, detect(), with_3d, explain);
     return true;
+  } catch (const ResultsUnwritable&) {
+    throw;  // not this frame's fault: the run stops
   } catch (const std::exception& e) {  // std::invalid_argument for bad input; anything else is reported too
     std::cerr << "detect_files: " << name << ": " << e.what() << ", skipped" << std::endl;
     return false;
@@ -278,6 +287,9 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return run(argc, argv);
+  } catch (const ResultsUnwritable& e) {
+    std::cerr << "detect_files: " << e.what() << ": stopped" << std::endl;
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "detect_files: internal error: " << e.what() << std::endl;
   } catch (...) {

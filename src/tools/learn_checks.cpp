@@ -44,7 +44,7 @@ std::vector<float> featuresOf(const YAML::Node& list, std::size_t width, const s
     throw std::invalid_argument(where + ": no check_features (records older than the check, or not --random records)");
   }
   std::vector<float> f;
-  for (const YAML::Node& v : list) f.push_back(v.IsNull() ? 0.0F : v.as<float>());
+  for (const YAML::Node& v : list) f.push_back(tools::recordFeature(v));
   if (!f.empty() && f.size() != width) {
     throw std::invalid_argument(where + ": " + std::to_string(f.size()) + " check features, the configuration's colour "
                                 "model gives " + std::to_string(width) + ": make the records with this configuration");

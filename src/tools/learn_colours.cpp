@@ -85,6 +85,14 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
+/// The colour model file written beside the configuration `out` (FILE.yaml -> FILE.colour_model.yml.gz; FileStorage
+/// gzips it: a forest is ~3 MB as text).
+std::string modelPathOf(const std::string& out) {
+  std::string stem = out;
+  if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
+  return stem + ".colour_model.yml.gz";
+}
+
 Options parse(int argc, char** argv) {
   Options o;
   tools::OptionsGiven given({"--images", "--annotations"});
@@ -139,6 +147,8 @@ Options parse(int argc, char** argv) {
   if (o.out.empty()) throw std::invalid_argument("give --out FILE.yaml");
   // Checked now, not after a cross-validation that can take many minutes.
   tools::checkWritableFile("--out", o.out, "the configuration file to write (FILE.yaml)");
+  tools::checkWritableFile("--out's colour model", modelPathOf(o.out),
+                           "an --out whose colour model, written beside it, can be written");
   if (!o.sweep.empty() && o.folds < 2) throw std::invalid_argument("--sweep needs cross-validation (--folds 2 or more)");
   if (!o.choose.empty() && o.folds < 2) {
     throw std::invalid_argument("--choose-thresholds needs cross-validation (--folds 2 or more)");
@@ -208,14 +218,6 @@ void refuseRepeatedFrames(const std::vector<LabelledFrame>& frames, std::vector<
     }
     by_hash.emplace(hash, i);
   }
-}
-
-/// The colour model file written beside the configuration `out` (FILE.yaml -> FILE.colour_model.yml.gz; FileStorage
-/// gzips it: a forest is ~3 MB as text).
-std::string modelPathOf(const std::string& out) {
-  std::string stem = out;
-  if (stem.size() > 5 && stem.substr(stem.size() - 5) == ".yaml") stem.resize(stem.size() - 5);
-  return stem + ".colour_model.yml.gz";
 }
 
 /// @throw std::invalid_argument when an output (--out, its colour model, --detections-out) is a file in an --images
@@ -443,11 +445,12 @@ void writeConfig(YAML::Node root, const std::string& base_path, const std::strin
   YAML::Node colours(YAML::NodeType::Sequence);
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
     const std::string& name = options.colours[k];
-    YAML::Node entry;
+    // A colour the base does not list is written by its name alone (the learnt model describes it).
+    YAML::Node entry(YAML::NodeType::Map);
+    entry["name"] = name;
     for (const auto& c : root["colours"]) {
       if (c["name"] && c["name"].as<std::string>() == name) entry = YAML::Clone(c);
     }
-    if (!entry) entry["name"] = name;
     // A threshold of the base's belongs to the base's model: the new one's are chosen here or none.
     entry.remove("min_confidence");
     // Thresholds as written on the command line (0.35, not 0.34999999999999998).

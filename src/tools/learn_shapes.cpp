@@ -40,7 +40,7 @@ void addRecords(const std::string& path, cv::Mat& samples, std::vector<ShapeKind
                                     std::to_string(kShapeFeatureCount) + ": evaluate again with this build");
       }
       cv::Mat row(1, kShapeFeatureCount, CV_32F);
-      for (int j = 0; j < kShapeFeatureCount; ++j) row.at<float>(j) = f[j].IsNull() ? 0.0F : f[j].as<float>();
+      for (int j = 0; j < kShapeFeatureCount; ++j) row.at<float>(j) = tools::recordFeature(f[j]);
       samples.push_back(row);
       labels.push_back(shapeFromName(o["shape"].as<std::string>(), where + ": shape"));
     }

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -87,15 +88,15 @@ class OptionsGiven {
   std::vector<std::string> repeatable_, given_;
 };
 
-/// `text` as WIDTHxHEIGHT (two whole numbers and nothing else) into `width` and `height`; false (both untouched)
-/// otherwise.
+/// `text` as WIDTHxHEIGHT (two whole numbers that fit an int, and nothing else) into `width` and `height`; false
+/// (both untouched) otherwise: 4294967936x400 is no size, not 640x400 wrapped around.
 inline bool parseImageSize(const std::string& text, int& width, int& height) {
-  int w = 0, h = 0, used = 0;
-  char x = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%n", &w, &x, &h, &used) != 3 || x != 'x' ||
-      used != static_cast<int>(text.size())) {
-    return false;
-  }
+  const char* const end = text.data() + text.size();
+  int w = 0, h = 0;
+  const auto [after_w, w_error] = std::from_chars(text.data(), end, w);
+  if (w_error != std::errc() || after_w == end || *after_w != 'x') return false;
+  const auto [after_h, h_error] = std::from_chars(after_w + 1, end, h);
+  if (h_error != std::errc() || after_h != end) return false;
   width = w;
   height = h;
   return true;
@@ -239,6 +240,16 @@ inline bool recordFlag(const YAML::Node& record, const char* key) {
     throw YAML::Exception(value.Mark(), std::string("\"") + key + "\" is neither true nor false");
   }
   return flag;
+}
+
+/// A record's feature `value`: null (what evaluate_detector writes for a feature it could not compute) as 0, as the
+/// detector's learnt models read it. @throw YAML::Exception (forEachRecordPair names the pair) on .nan or .inf,
+/// which evaluate_detector never writes: a model learnt from them would split on nothing.
+inline float recordFeature(const YAML::Node& value) {
+  if (value.IsNull()) return 0.0F;
+  const float f = value.as<float>();
+  if (!std::isfinite(f)) throw YAML::Exception(value.Mark(), "a feature is '" + value.Scalar() + "', not a finite number");
+  return f;
 }
 
 /// Calls `add` with each pair of the records `root` read from `path`; a field of the wrong kind is named with the file

@@ -77,7 +77,8 @@ class Detector {
 
   /// Raw (distorted) left and right frames of the calibrated size, as they arrive (BGR8, grey or Bayer: a
   /// cv::Mat converts to a BGR or grey RawFrame). A spoiled frame is reported with no objects.
-  /// @throw std::invalid_argument on empty frames or wrong sizes, or when built without calibration.
+  /// @throw std::invalid_argument on empty frames or wrong sizes, when built without calibration, or when the two
+  /// frames are the same image and the left holds a candidate (its range would be made up).
   DetectionResult detect(const RawFrame& left, const RawFrame& right) const;
   /// Quality, colour and 2D candidates only (colour, outline, roi, measured colour; no 3D fields).
   /// @throw std::invalid_argument when `frame` is empty.
