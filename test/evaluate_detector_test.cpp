@@ -150,6 +150,17 @@ TEST(EvaluateDetector, ScenesOneStillSumsUp) {
   fs::remove(log);
 }
 
+// Tables that cannot be written (a full disk) are no finished evaluation: exit 1, said on stderr.
+TEST(EvaluateDetector, ResultsThatCannotBeWrittenAreNotAFinishedRun) {
+  const fs::path log = logFile("full");
+  const int status = std::system((kEvaluate + " --paper-brightness --seed 1181 --levels 33 --size 640x400 >/dev/full 2>" +
+                                  log.string()).c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  EXPECT_NE(readText(log).find("the results could not be written to standard output"), std::string::npos)
+      << readText(log);
+  fs::remove(log);
+}
+
 // --luma exposes every sampled scene to a mean luma in the range given: two scenes at 14-16 both fall in the
 // summary's darkest bin.
 TEST(EvaluateDetector, LumaSetsTheExposureOfTheSampledPairs) {

@@ -442,23 +442,29 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  int status = 0;
   try {
     // The records say how shapes were decided and how pairs were given (their "config").
     if (random.pairs > 0) {
-      return evaluateRandom(config,
-                            config_path + (shape_rules ? " --shape-rules" : "") +
-                                (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : "") +
-                                (sampler_given.luma.empty() ? "" : " --luma " + sampler_given.luma),
-                            sampler, random);
-    }
-    if (paper_brightness) {
+      status = evaluateRandom(config,
+                              config_path + (shape_rules ? " --shape-rules" : "") +
+                                  (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : "") +
+                                  (sampler_given.luma.empty() ? "" : " --luma " + sampler_given.luma),
+                              sampler, random);
+    } else if (paper_brightness) {
       tools::sweepBrightness(std::cout, config, sampler, random.seed, std::max(paper_scenes, 1),
                              levels.empty() ? tools::kPaperLevels : levels, paper_scenes > 0);
-      return 0;
+    } else {
+      status = evaluateSceneFiles(config, scene_files, frames, rate);
     }
-    return evaluateSceneFiles(config, scene_files, frames, rate);
   } catch (const std::exception& e) {
     std::cerr << "evaluate_detector: " << e.what() << "\n";
     return 1;
   }
+  // The tables are the result: a full disk must not pass for a finished evaluation.
+  if (!(std::cout << std::flush)) {
+    std::cerr << "evaluate_detector: the results could not be written to standard output (disk full, or closed?)\n";
+    return 1;
+  }
+  return status;
 }
