@@ -100,4 +100,33 @@ TEST(Dbscan, EmptyInputGivesNoCluster) { EXPECT_TRUE(dbscan({}, ClusterConfig{})
 TEST(Dbscan, InvalidConfigIsReported) {
   EXPECT_TRUE(ClusterConfig{}.validate().empty());
   EXPECT_EQ((ClusterConfig{0.0, 0}.validate().size()), 2U);
+  EXPECT_EQ((ClusterConfig{0.04, 8, -1.0}.validate().size()), 1U);
+}
+
+// A far object's stereo points: a 0.5 m panel at 4.7 m seen by a rig of 224 px m, each point's depth off by a
+// disparity error of sigma 0.5 px (z^2 / fB per pixel: 10 cm), 800 points matched.
+TEST(Dbscan, AFarObjectsPointsStayOneClusterWithTheRadiusOfItsDepthStep) {
+  constexpr double kFocalBaseline = 224.0, kDepth = 4.7;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> across(-0.25F, 0.25F);
+  std::normal_distribution<double> disparity_error(0.0, 0.5);
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 800; ++i) {
+    const double d = kFocalBaseline / kDepth + disparity_error(rng);
+    points.emplace_back(across(rng), across(rng), static_cast<float>(kFocalBaseline / d));
+  }
+  const ClusterConfig fixed{0.04, 8, 0.0}, following{0.04, 8, 0.5};
+  EXPECT_DOUBLE_EQ(neighbourhoodRadius(points, fixed, kFocalBaseline), 0.04);
+  const double radius = neighbourhoodRadius(points, following, kFocalBaseline);
+  EXPECT_NEAR(radius, 0.5 * kDepth * kDepth / kFocalBaseline, 0.002);  // 4.9 cm
+  ClusterConfig at_radius = following;
+  at_radius.eps_m = radius;
+  const auto apart = dbscan(points, fixed), together = dbscan(points, at_radius);
+  ASSERT_FALSE(together.empty());
+  EXPECT_GT(together.front().size(), 600U) << "the object's points are one cluster";
+  EXPECT_LT(apart.empty() ? 0U : apart.front().size(), together.front().size() / 2) << "eps_m alone splits them";
+  // Near, the depth step is finer than eps_m: the radius stays eps_m.
+  for (Eigen::Vector3f& p : points) p.z() = 1.0F;
+  EXPECT_DOUBLE_EQ(neighbourhoodRadius(points, following, kFocalBaseline), 0.04);
+  EXPECT_DOUBLE_EQ(neighbourhoodRadius({}, following, kFocalBaseline), 0.04);
 }

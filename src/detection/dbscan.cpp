@@ -12,7 +12,23 @@ std::vector<std::string> ClusterConfig::validate() const {
   std::vector<std::string> p;
   if (!(eps_m > 0.0 && eps_m <= 1.0)) p.push_back("cluster.eps_m must be in (0, 1]");
   if (min_points < 1 || min_points > 10000) p.push_back("cluster.min_points must be in [1, 10000]");
+  if (!(eps_disparity_px >= 0.0 && eps_disparity_px <= 10.0)) p.push_back("cluster.eps_disparity_px must be in [0, 10]");
   return p;
+}
+
+double neighbourhoodRadius(const std::vector<Eigen::Vector3f>& points, const ClusterConfig& config,
+                           double focal_baseline) {
+  if (config.eps_disparity_px <= 0.0 || !(focal_baseline > 0.0)) return config.eps_m;
+  std::vector<float> depth;
+  depth.reserve(points.size());
+  for (const Eigen::Vector3f& p : points) {
+    if (p.allFinite()) depth.push_back(p.z());
+  }
+  if (depth.empty()) return config.eps_m;
+  const auto middle = depth.begin() + static_cast<std::ptrdiff_t>(depth.size() / 2);
+  std::nth_element(depth.begin(), middle, depth.end());
+  const double z = *middle;
+  return std::max(config.eps_m, config.eps_disparity_px * z * z / focal_baseline);
 }
 
 namespace {

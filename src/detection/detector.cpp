@@ -403,7 +403,10 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     if (!order->silhouette) order->order = matcher_->stereoOrder(left, right, c.roi);
     t.matching_ms += stage.lapMs();
   }
-  const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, config_.cluster);
+  ClusterConfig cluster = config_.cluster;
+  cluster.eps_m = neighbourhoodRadius(roi_points.points, cluster,
+                                      matcher_->calibration().focalPx() * matcher_->calibration().baselineM());
+  const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, cluster);
   t.cluster_ms += stage.lapMs();
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
     rejected.reason = "too few 3D points (" + std::to_string(clusters.empty() ? 0 : clusters.front().size()) + " < " +
