@@ -14,6 +14,7 @@
 #include "sim_test_helpers.h"
 #include "underwater_stereo/detection/detector.h"
 #include "underwater_stereo/sim/renderer.h"
+#include "underwater_stereo/sim/scene_sampler.h"
 
 using namespace underwater_stereo;
 
@@ -313,6 +314,31 @@ TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
     EXPECT_NE(rejected.reason.find("swapped"), std::string::npos) << rejected.reason;
   }
   EXPECT_EQ(swapped, 2);
+}
+
+// A far object: seed 100016's orange panel 4.7 m away (its 1160 stereo points scatter along their rays by stereo's
+// depth step, 10 cm per pixel of disparity there; docs/accuracy.md, "The cluster radius follows stereo's depth step").
+TEST(Detector, AFarObjectsPointsAreClusteredAtTheRadiusOfItsDepthStep) {
+  const sim::SampledScene sampled = sim::sampleScene(100016);
+  const sim::Renderer renderer(sampled.scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const auto truth = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
+                                  [](const sim::GroundTruthObject& o) { return o.name == "orange_plane_0"; });
+  ASSERT_NE(truth, pair.ground_truth.end());
+  ASSERT_NEAR(truth->range_m, 4.7, 0.05);
+  const auto onIt = [&](const cv::Rect& roi) { return (roi & truth->roi_left).area() > 0.5 * roi.area(); };
+  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
+  DetectorConfig config = defaultConfig();
+  const DetectionResult r = Detector(config, renderer.calibration()).detect(left, right);
+  const auto found = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& d) { return onIt(d.roi); });
+  ASSERT_NE(found, r.objects.end()) << "the far panel is reported";
+  EXPECT_NEAR(found->range_m, truth->range_m, 0.03 * truth->range_m);
+  config.cluster.eps_disparity_px = 0;  // eps_m alone: its points fall apart
+  const DetectionResult fixed = Detector(config, renderer.calibration()).detect(left, right);
+  EXPECT_FALSE(std::any_of(fixed.objects.begin(), fixed.objects.end(), [&](const Detection& d) { return onIt(d.roi); }));
+  EXPECT_TRUE(std::any_of(fixed.rejected.begin(), fixed.rejected.end(), [&](const Rejection& j) {
+    return onIt(j.roi) && j.stage == RejectionStage::kTooFewPoints;
+  }));
 }
 
 TEST(Detector, OneImageGivenAsBothViewsIsRefusedNotRanged) {

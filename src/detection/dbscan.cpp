@@ -28,7 +28,7 @@ double neighbourhoodRadius(const std::vector<Eigen::Vector3f>& points, const Clu
   const auto middle = depth.begin() + static_cast<std::ptrdiff_t>(depth.size() / 2);
   std::nth_element(depth.begin(), middle, depth.end());
   const double z = *middle;
-  return std::max(config.eps_m, config.eps_disparity_px * z * z / focal_baseline);
+  return std::clamp(config.eps_disparity_px * z * z / focal_baseline, config.eps_m, std::max(config.eps_m, 1.0));
 }
 
 namespace {

@@ -29,8 +29,8 @@ const char* kUsage =
     "usage: detect_files [--config detector.yaml] --left L --right R --left-info left.yaml --right-info right.yaml\n"
     "       detect_files [--config detector.yaml] --image X [--image Y ...]\n"
     "       detect_files [--config detector.yaml] [--left-info .. --right-info ..] --list FILE\n"
-    "  --left/--right  image files or quoted glob patterns ('dir/left_*.png'); matched in sorted order (a name\n"
-    "                  that is a file as it is, such as 'img[1].png', is that file)\n"
+    "  --left/--right  image files or quoted glob patterns ('dir/left_*.png'); matched in sorted order (a file\n"
+    "                  named as written that the pattern does not match, such as 'img[1].png', is that file)\n"
     "  --left-info     camera_info YAML as camera_calibration writes it (also --right-info)\n"
     "  --image         2D only: no right image, no calibration (colour, outline, roi, quality); repeatable\n"
     "  --list          a text file, one frame per line: 'LEFT RIGHT' (stereo) or 'IMAGE' (2D); # comments;\n"
@@ -54,18 +54,26 @@ struct Options {
   bool explain = false;
 };
 
-/// The files `pattern` (given as `option`) matches, in sorted order; a name that is a file as it is stays that file
-/// (img[1].png is not img1.png), and a plain name stays as it is (a missing file is reported when read).
+/// The files `pattern` (given as `option`) matches, in sorted order; a plain name as it is (a missing file is
+/// reported when read). A file named as the pattern is written that the pattern does not match (img[1].png: the
+/// pattern matches img1.png) is that file, said on stderr when the pattern matches others.
 /// @throw std::invalid_argument when a pattern matches nothing.
 std::vector<std::string> expand(const std::string& option, const std::string& pattern) {
-  std::error_code error;
-  if (pattern.find_first_of("*?[") == std::string::npos || std::filesystem::exists(pattern, error)) return {pattern};
+  if (pattern.find_first_of("*?[") == std::string::npos) return {pattern};
   glob_t g{};
   std::vector<std::string> out;
   if (::glob(pattern.c_str(), 0, nullptr, &g) == 0) {
     for (std::size_t i = 0; i < g.gl_pathc; ++i) out.emplace_back(g.gl_pathv[i]);
   }
   ::globfree(&g);
+  std::error_code error;
+  if (std::filesystem::exists(pattern, error) && std::find(out.begin(), out.end(), pattern) == out.end()) {
+    if (!out.empty()) {
+      std::cerr << "detect_files: " << option << " '" << pattern << "' is taken as the file of that name, not as the "
+                << "pattern (which matches " << out.front() << (out.size() > 1 ? " and others" : "") << ")" << std::endl;
+    }
+    return {pattern};
+  }
   if (out.empty()) throw std::invalid_argument(option + " '" + pattern + "': no file matches the pattern");
   return out;
 }
@@ -216,9 +224,9 @@ cv::Mat readImage(const std::string& path) {
   }
 }
 
-/// Standard output refused the results (a full disk, a closed pipe): every later frame's would be lost too.
+/// Standard output refused the results (a full disk, a closed descriptor): every later frame's would be lost too.
 struct ResultsUnwritable : std::runtime_error {
-  ResultsUnwritable() : std::runtime_error("the results cannot be written to standard output (disk full, or closed?)") {}
+  ResultsUnwritable() : std::runtime_error("the results cannot be written to standard output (disk full?)") {}
 };
 
 /// The frame's lines, written out at once (a run stopped later keeps them).

@@ -59,7 +59,8 @@ const char* kUsage =
     "    (within 1).\n"
     "  Objects count when 0.5-5 m away with >= 400 visible pixels and a designated colour.\n"
     "  Exit status 2 on bad options, configuration or scene files (each problem named, nothing rendered); 1 when\n"
-    "  a pair failed (--random: each named on stderr, the others still summed and written).\n";
+    "  a pair failed (--random: each named on stderr, the others still summed and written), or the tables could not\n"
+    "  be written to standard output (disk full).\n";
 
 struct Stats {
   int frames = 0, eligible = 0, found = 0, false_detections = 0, shape_eligible = 0, shape_correct = 0;
@@ -463,7 +464,7 @@ int main(int argc, char** argv) {
   }
   // The tables are the result: a full disk must not pass for a finished evaluation.
   if (!(std::cout << std::flush)) {
-    std::cerr << "evaluate_detector: the results could not be written to standard output (disk full, or closed?)\n";
+    std::cerr << "evaluate_detector: the results could not be written to standard output (disk full?)\n";
     return 1;
   }
   return status;

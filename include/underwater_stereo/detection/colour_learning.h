@@ -30,8 +30,9 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box);
 
 /// The `<object>`s of a Pascal VOC annotation file (read as XML: comments, attributes and a `<part>`'s own box
 /// are no objects). @throw std::invalid_argument naming the file (and the object's number and name) when it
-/// cannot be read, is not VOC XML, or a box is empty, not a number, beyond any image (16384 px) or another
-/// object's box too. `declared_size`, when given, receives the image size its <size> declares (empty when it
+/// cannot be read, is not VOC XML (or holds a second root element after its <annotation>), an object has two
+/// <name>, <bndbox> or corners of one kind, or a box is empty, not a number, beyond any image (16384 px) or
+/// (nearly: 0.9 of their union) another object's box too. `declared_size`, when given, receives the image size its <size> declares (empty when it
 /// declares none, or a side of 0); a <size> whose <width> or <height> is no whole number is an error too.
 std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_size = nullptr);
 
