@@ -6,15 +6,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include <sys/wait.h>
-
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <regex>
 
+#include "tool_test_helpers.h"
 #include "underwater_stereo/ros_glue/calibration_conversions.h"
 #include "underwater_stereo/sim/renderer.h"
 
@@ -210,9 +207,7 @@ TEST_F(DetectFiles, NeitherAMadeUpRangeNorALostResultGoesUnsaid) {
   const int status = std::system((std::string(UWS_DETECT_FILES) + " --image " + path("left.png") + " --image " +
                                   path("left.png") + " > /dev/full 2> " + log).c_str());
   EXPECT_EQ(WEXITSTATUS(status), 1);
-  std::ifstream in(log);
-  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(said.find("the results cannot be written to standard output"), std::string::npos) << said;
+  EXPECT_NE(readText(log).find("the results cannot be written to standard output"), std::string::npos) << readText(log);
 }
 
 TEST_F(DetectFiles, ExplainListsWhatWasLookedAtAndNotReportedWithWhy) {

@@ -5,10 +5,10 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
-#include <algorithm>
 #include <random>
 #include <utility>
 #include <vector>
