@@ -371,6 +371,16 @@ TEST(ColourLearning, AnAnnotationsDeclaredSizeMustBeItsImages) {
                                                     object + "</annotation>");
   EXPECT_NE(messageOf([&] { readVocLabels(bad, &declared); }).find(bad + ": <size> <width> '16O' is not a whole number"),
             std::string::npos) << messageOf([&] { readVocLabels(bad, &declared); });
+  // A side given twice: which one the tool meant is not known, so the size is not checked against either silently.
+  const std::string two_widths = writeTemp("two_widths.xml", "<annotation><size><width>160</width><width>1920</width>"
+                                                             "<height>120</height></size>" + object + "</annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(two_widths, &declared); }).find(two_widths + ": <size> has two <width>"),
+            std::string::npos) << messageOf([&] { readVocLabels(two_widths, &declared); });
+  const std::string two_sizes = writeTemp("two_sizes.xml", "<annotation><size><width>160</width><height>120</height>"
+                                                           "</size><size><width>1920</width><height>1200</height>"
+                                                           "</size>" + object + "</annotation>");
+  EXPECT_NE(messageOf([&] { readVocLabels(two_sizes, &declared); }).find(two_sizes + " has two <size>"),
+            std::string::npos) << messageOf([&] { readVocLabels(two_sizes, &declared); });
 
   LabelledFrame f;
   f.name = "frame_9.jpg";

@@ -58,8 +58,24 @@ TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
   EXPECT_LT(far.forward, 0.9);
   // A region too thin to keep 4 pixels across when scaled to the compared size is not compared.
   const StereoOrder thin = compareStereoOrder(discAt(200), discAt(160), cv::Rect(0, 100, 400, 3), 10, 100, 0.0);
-  EXPECT_EQ(thin.forward, -1.0);
-  EXPECT_EQ(thin.backward, -1.0);
+  EXPECT_EQ(thin.forward, StereoOrder::kNotCompared);
+  EXPECT_EQ(thin.backward, StereoOrder::kNotCompared);
+}
+
+// An object at the left border: in a pair in order its right view lies beyond the right image, so its forward side is
+// not compared, and a smooth patch that matches itself a little shifted (backward) must not take the pair for swapped.
+TEST(StereoOrder, AnObjectWhoseRightViewLiesBeyondTheImageSaysNothing) {
+  cv::Mat left(200, 400, CV_8UC1, cv::Scalar(140)), right = left.clone();
+  for (int y = 20; y < 180; ++y) {  // a large plain box cut by the left border, shaded top to bottom; disparity 40
+    left(cv::Rect(0, y, 240, 1)).setTo(40 + y);
+    right(cv::Rect(0, y, 200, 1)).setTo(40 + y);
+  }
+  const StereoOrder o = compareStereoOrder(left, right, cv::Rect(0, 20, 240, 160), 10, 100, 0.0);
+  EXPECT_EQ(o.forward, StereoOrder::kNotCompared);
+  EXPECT_GT(o.backward, 0.8) << "the case this guards: the shifted patch matches itself";
+  EXPECT_FALSE(o.looksSwapped());
+  EXPECT_FALSE(pairOrder({ObjectOrderEvidence{false, o}}).looksSwapped());
+  EXPECT_FALSE((StereoOrder{StereoOrder::kNotCompared, 0.95}).looksSwapped());
 }
 
 TEST(StereoOrder, RefusesFramesOfOtherSizesAndARegionOutsideThem) {

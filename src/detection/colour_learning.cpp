@@ -72,14 +72,15 @@ const tinyxml2::XMLElement* onlyChild(const tinyxml2::XMLElement& parent, const 
 }
 
 /// The image size a VOC <annotation>'s <size> declares (empty when it has none, or a side of 0). @throw
-/// std::invalid_argument naming `path` when its <width> or <height> is no whole number in [0, kMaxImageSidePx].
+/// std::invalid_argument naming `path` when its <width> or <height> is no whole number in [0, kMaxImageSidePx], or
+/// when <size>, <width> or <height> is given twice (which one was meant is not known).
 cv::Size declaredSize(const tinyxml2::XMLElement& annotation, const std::string& path) {
-  const tinyxml2::XMLElement* size = annotation.FirstChildElement("size");
+  const tinyxml2::XMLElement* size = onlyChild(annotation, "size", path);
   if (!size) return {};
   int side[2] = {0, 0};
   const char* keys[2] = {"width", "height"};
   for (int k = 0; k < 2; ++k) {
-    const tinyxml2::XMLElement* field = size->FirstChildElement(keys[k]);
+    const tinyxml2::XMLElement* field = onlyChild(*size, keys[k], path + ": <size>");
     if (!field) return {};  // a <size> holding only <depth>: no size declared
     const std::string value = trimmed(field->GetText() ? field->GetText() : "");
     double n = -1;

@@ -24,7 +24,7 @@ constexpr double kSwapMargin = 0.2;
 }  // namespace
 
 bool StereoOrder::looksSwapped() const {
-  return backward >= kMinSwappedCorrelation && backward > forward + kSwapMargin;
+  return forward != kNotCompared && backward >= kMinSwappedCorrelation && backward > forward + kSwapMargin;
 }
 
 bool PairOrder::looksSwapped() const { return swapped > 0 && swapped >= silhouettes && 2 * swapped >= objects; }
@@ -72,9 +72,10 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
     const cv::Rect band = cv::Rect(x0 - column_slack, roi.y + sign * row_offset - row_slack,
                                    hi - lo + roi.width + 2 * column_slack, roi.height + 2 * row_slack) &
                           frame;
-    if (band.width < roi.width || band.height < roi.height) return -1.0;  // not in the image on this side
+    // Not in the image on this side.
+    if (band.width < roi.width || band.height < roi.height) return StereoOrder::kNotCompared;
     const cv::Mat searched = grey(right, band);
-    if (searched.cols < patch.cols || searched.rows < patch.rows) return -1.0;
+    if (searched.cols < patch.cols || searched.rows < patch.rows) return StereoOrder::kNotCompared;
     cv::Mat score;
     cv::matchTemplate(searched, patch, score, cv::TM_CCOEFF_NORMED);
     double top = -1.0;
