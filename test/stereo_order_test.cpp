@@ -46,6 +46,16 @@ TEST(StereoOrder, TheRightCamerasRowOffsetIsLookedForOnEachSide) {
   EXPECT_GT(swapped.backward, 0.9);
   EXPECT_TRUE(swapped.looksSwapped());
   EXPECT_THROW(compareStereoOrder(left, right, kDiscInLeft, 10, 100, std::nan("")), std::invalid_argument);
+  // A disc cut by the bottom border: the rows the right image cannot show 12 rows lower are left out on both sides.
+  const cv::Mat low_left = discAt(200, 185), low_right = discAt(160, 197);
+  const cv::Rect low(200 - 32, 185 - 32, 64, 200 - (185 - 32));
+  const StereoOrder in_order = compareStereoOrder(low_left, low_right, low, 10, 100, 12.0);
+  EXPECT_GT(in_order.forward, 0.9);
+  EXPECT_FALSE(in_order.looksSwapped());
+  const StereoOrder low_swapped = compareStereoOrder(low_right, low_left, cv::Rect(160 - 32, 197 - 32, 64, 200 - (197 - 32)),
+                                                     10, 100, 12.0);
+  EXPECT_NE(low_swapped.forward, StereoOrder::kNotCompared);
+  EXPECT_TRUE(low_swapped.looksSwapped());
 }
 
 TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
@@ -63,7 +73,8 @@ TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
 }
 
 // An object at the left border: in a pair in order its right view lies beyond the right image, so its forward side is
-// not compared, and a smooth patch that matches itself a little shifted (backward) must not take the pair for swapped.
+// not compared, and a smooth patch that matches itself a little shifted (backward) must not take the pair for swapped;
+// its backward match is weighed against the patch's match with its own image there instead.
 TEST(StereoOrder, AnObjectWhoseRightViewLiesBeyondTheImageSaysNothing) {
   cv::Mat left(200, 400, CV_8UC1, cv::Scalar(140)), right = left.clone();
   for (int y = 20; y < 180; ++y) {  // a large plain box cut by the left border, shaded top to bottom; disparity 40
@@ -73,9 +84,15 @@ TEST(StereoOrder, AnObjectWhoseRightViewLiesBeyondTheImageSaysNothing) {
   const StereoOrder o = compareStereoOrder(left, right, cv::Rect(0, 20, 240, 160), 10, 100, 0.0);
   EXPECT_EQ(o.forward, StereoOrder::kNotCompared);
   EXPECT_GT(o.backward, 0.8) << "the case this guards: the shifted patch matches itself";
+  EXPECT_GT(o.backward_in_left, 0.8) << "...as well in its own image";
   EXPECT_FALSE(o.looksSwapped());
   EXPECT_FALSE(pairOrder({ObjectOrderEvidence{false, o}}).looksSwapped());
-  EXPECT_FALSE((StereoOrder{StereoOrder::kNotCompared, 0.95}).looksSwapped());
+  // A shaded disc at the left border of a swapped pair: its view lies right of it, where its own image has water.
+  const StereoOrder disc = compareStereoOrder(discAt(20), discAt(60), cv::Rect(0, 100 - 32, 52, 64), 20, 100, 0.0);
+  EXPECT_EQ(disc.forward, StereoOrder::kNotCompared);
+  EXPECT_GT(disc.backward, 0.9);
+  EXPECT_LT(disc.backward_in_left, 0.7);
+  EXPECT_TRUE(disc.looksSwapped());
 }
 
 TEST(StereoOrder, RefusesFramesOfOtherSizesAndARegionOutsideThem) {

@@ -24,7 +24,8 @@ constexpr double kSwapMargin = 0.2;
 }  // namespace
 
 bool StereoOrder::looksSwapped() const {
-  return forward != kNotCompared && backward >= kMinSwappedCorrelation && backward > forward + kSwapMargin;
+  const double rival = forward != kNotCompared ? forward : backward_in_left;
+  return rival != kNotCompared && backward >= kMinSwappedCorrelation && backward > rival + kSwapMargin;
 }
 
 bool PairOrder::looksSwapped() const { return swapped > 0 && swapped >= silhouettes && 2 * swapped >= objects; }
@@ -51,15 +52,22 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
   StereoOrder out;
   const int lo = std::max(1, std::min(min_shift, frame.width)), hi = std::max(lo, std::min(max_shift, frame.width));
   const int row_offset = static_cast<int>(std::lround(std::clamp(row_offset_px, -1.0 * frame.height, 1.0 * frame.height)));
-  const double scale = std::min(0.5, kMaxPatchPx / std::max(roi.width, roi.height));
+  // Rows whose view lies beyond the right image on either side (the cameras' row offset) are left out of the patch
+  // on both sides alike: a region touching the top or bottom border is still compared.
+  const int offset_rows = std::abs(row_offset);
+  const int first_row = std::max(roi.y, offset_rows);
+  const int end_row = std::min(roi.y + roi.height, frame.height - offset_rows);
+  if (end_row <= first_row) return out;
+  const cv::Rect compared(roi.x, first_row, roi.width, end_row - first_row);
+  const double scale = std::min(0.5, kMaxPatchPx / std::max(compared.width, compared.height));
   // A region too thin to keep 4 pixels across at this scale says nothing (and would resize to nothing).
-  if (cvRound(roi.width * scale) < 4 || cvRound(roi.height * scale) < 4) return out;
+  if (cvRound(compared.width * scale) < 4 || cvRound(compared.height * scale) < 4) return out;
   auto grey = [scale](const RawFrame& f, const cv::Rect& r) {
     cv::Mat g;
     cv::resize(f.grey(r), g, cv::Size(), scale, scale, cv::INTER_AREA);
     return g;
   };
-  const cv::Mat patch = grey(left, roi);
+  const cv::Mat patch = grey(left, compared);
   cv::Scalar mean, spread;
   cv::meanStdDev(patch, mean, spread);
   if (spread[0] < 1.0) return out;  // a flat patch matches anywhere alike
@@ -67,14 +75,15 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
   // the patch and `sign` x row_offset rows lower (a swapped pair's right image is the left one's, so both are off
   // the other way), +- the slack.
   const int row_slack = static_cast<int>(std::ceil(kRowSlackPx / scale)), column_slack = static_cast<int>(std::ceil(1 / scale));
-  auto best = [&](int sign) {
-    const int x0 = sign > 0 ? roi.x - hi : roi.x + lo;
-    const cv::Rect band = cv::Rect(x0 - column_slack, roi.y + sign * row_offset - row_slack,
-                                   hi - lo + roi.width + 2 * column_slack, roi.height + 2 * row_slack) &
+  auto best = [&](const RawFrame& image, int sign) {
+    const int x0 = sign > 0 ? compared.x - hi : compared.x + lo;
+    const cv::Rect band = cv::Rect(x0 - column_slack, compared.y + sign * row_offset - row_slack,
+                                   hi - lo + compared.width + 2 * column_slack, compared.height + 2 * row_slack) &
                           frame;
-    // Not in the image on this side.
-    if (band.width < roi.width || band.height < roi.height) return StereoOrder::kNotCompared;
-    const cv::Mat searched = grey(right, band);
+    // Not in the image on this side (a region within `lo` columns of the left border: its view in a pair in order
+    // lies beyond the right image; or of the right border, for a swapped pair's).
+    if (band.width < compared.width || band.height < compared.height) return StereoOrder::kNotCompared;
+    const cv::Mat searched = grey(image, band);
     if (searched.cols < patch.cols || searched.rows < patch.rows) return StereoOrder::kNotCompared;
     cv::Mat score;
     cv::matchTemplate(searched, patch, score, cv::TM_CCOEFF_NORMED);
@@ -82,8 +91,9 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
     cv::minMaxLoc(score, nullptr, &top);
     return top;
   };
-  out.forward = best(+1);
-  out.backward = best(-1);
+  out.forward = best(right, +1);
+  out.backward = best(right, -1);
+  if (out.forward == StereoOrder::kNotCompared) out.backward_in_left = best(left, -1);
   return out;
 }
 

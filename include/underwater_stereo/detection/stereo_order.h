@@ -20,10 +20,13 @@ struct StereoOrder {
   /// Best normalised cross-correlation (-1..1) over the workspace's disparities: `forward` where the right view
   /// lies left of the left one (as it should), `backward` where it lies right of it (as in a swapped pair).
   double forward = kNotCompared, backward = kNotCompared;
-  /// The backward match is plain and clearly better than any forward one. An object whose forward side was not
-  /// compared says nothing: near the left border its view in a pair in order lies beyond the right image, and a
-  /// smooth patch matches itself a little shifted either way (a large box cut by the left border took its pair
-  /// for swapped, docs/reliability.md).
+  /// Where `forward` could not be compared (an object at the left border: in a pair in order its view lies beyond
+  /// the right image), the patch against the left image itself at the backward shifts: how well a smooth patch
+  /// matches itself a little shifted, which a backward match must beat instead.
+  double backward_in_left = kNotCompared;
+  /// The backward match is plain and clearly better than any forward one (or, without a forward side, than the
+  /// patch's match with its own image: a large plain box cut by the left border took its pair for swapped,
+  /// docs/reliability.md).
   bool looksSwapped() const;
 };
 
@@ -31,7 +34,8 @@ struct StereoOrder {
 /// pair in order, [min_shift, max_shift] raw columns left of the patch and `row_offset_px` raw rows lower (from the
 /// calibration at the workspace's far and near ends: cameras are never exactly aligned), and where it lies in a
 /// swapped pair, as far right and as far higher; on unrectified grey images scaled so that the patch is at most
-/// 64 px across. Shifts the image cannot hold on one side are not compared there (that side stays
+/// 64 px across. Rows whose view would lie above or below the right image (the row offset) are left out of the
+/// compared patch on both sides; shifts the image cannot hold on one side are not compared there (that side stays
 /// StereoOrder::kNotCompared), nor is a region too thin to keep 4 pixels across. @throw std::invalid_argument when
 /// the frames differ in size, `roi` is not inside them or the offset is not finite.
 StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, int min_shift,
