@@ -56,6 +56,10 @@ TEST(StereoOrder, TheRightCamerasRowOffsetIsLookedForOnEachSide) {
                                                      10, 100, 12.0);
   EXPECT_NE(low_swapped.forward, StereoOrder::kNotCompared);
   EXPECT_TRUE(low_swapped.looksSwapped());
+  // And one cut by the top border, swapped: its view lies 12 rows higher, the rows above them are left out.
+  const StereoOrder high_swapped = compareStereoOrder(discAt(160, 27), discAt(200, 15), cv::Rect(128, 0, 64, 59), 10, 100, 12.0);
+  EXPECT_NE(high_swapped.forward, StereoOrder::kNotCompared);
+  EXPECT_TRUE(high_swapped.looksSwapped());
 }
 
 TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
@@ -75,7 +79,7 @@ TEST(StereoOrder, AFlatPatchAViewBeyondTheImageOrAThinRegionSaysNothing) {
 // An object at the left border: in a pair in order its right view lies beyond the right image, so its forward side is
 // not compared, and a smooth patch that matches itself a little shifted (backward) must not take the pair for swapped;
 // its backward match is weighed against the patch's match with its own image there instead.
-TEST(StereoOrder, AnObjectWhoseRightViewLiesBeyondTheImageSaysNothing) {
+TEST(StereoOrder, AnObjectAtTheLeftBorderIsWeighedAgainstItsOwnImage) {
   cv::Mat left(200, 400, CV_8UC1, cv::Scalar(140)), right = left.clone();
   for (int y = 20; y < 180; ++y) {  // a large plain box cut by the left border, shaded top to bottom; disparity 40
     left(cv::Rect(0, y, 240, 1)).setTo(40 + y);
@@ -93,6 +97,21 @@ TEST(StereoOrder, AnObjectWhoseRightViewLiesBeyondTheImageSaysNothing) {
   EXPECT_GT(disc.backward, 0.9);
   EXPECT_LT(disc.backward_in_left, 0.7);
   EXPECT_TRUE(disc.looksSwapped());
+  // A large textured object at the left border of a swapped pair, the smallest shift a few compared pixels: its own
+  // image is searched from that shift on, not from the slack before it (where any patch matches itself).
+  cv::Mat texture(400, 900, CV_8UC1);
+  cv::RNG(7).fill(texture, cv::RNG::UNIFORM, 0, 255);
+  cv::GaussianBlur(texture, texture, cv::Size(0, 0), 8);
+  cv::normalize(texture, texture, 20, 230, cv::NORM_MINMAX);
+  cv::Mat real_right(texture.size(), CV_8UC1, cv::Scalar(130));
+  texture(cv::Rect(60, 0, 840, 400)).copyTo(real_right(cv::Rect(0, 0, 840, 400)));  // disparity 60
+  const cv::Rect at_border(0, 50, 700, 300);  // in the real right image, given as the left
+  const int slack = static_cast<int>(std::ceil(700 / 64.0));  // one compared pixel
+  const StereoOrder textured = compareStereoOrder(real_right, texture, at_border, slack + 3, 100, 0.0);
+  EXPECT_EQ(textured.forward, StereoOrder::kNotCompared);
+  EXPECT_GT(textured.backward, 0.9);
+  EXPECT_LT(textured.backward_in_left, 0.7);
+  EXPECT_TRUE(textured.looksSwapped());
 }
 
 TEST(StereoOrder, RefusesFramesOfOtherSizesAndARegionOutsideThem) {

@@ -73,15 +73,18 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
   if (spread[0] < 1.0) return out;  // a flat patch matches anywhere alike
   // The best match in the part of the right image where the object's view lies `sign` x [lo, hi] columns left of
   // the patch and `sign` x row_offset rows lower (a swapped pair's right image is the left one's, so both are off
-  // the other way), +- the slack.
+  // the other way), +- the slack; `near_slack` columns beyond the smallest shift (0 where the patch is matched with
+  // its own image: at a fraction of a compared pixel any patch matches itself).
   const int row_slack = static_cast<int>(std::ceil(kRowSlackPx / scale)), column_slack = static_cast<int>(std::ceil(1 / scale));
-  auto best = [&](const RawFrame& image, int sign) {
+  auto best = [&](const RawFrame& image, int sign, int near_slack) {
     const int x0 = sign > 0 ? compared.x - hi : compared.x + lo;
-    const cv::Rect band = cv::Rect(x0 - column_slack, compared.y + sign * row_offset - row_slack,
-                                   hi - lo + compared.width + 2 * column_slack, compared.height + 2 * row_slack) &
+    const int left_slack = sign > 0 ? column_slack : near_slack, right_slack = sign > 0 ? near_slack : column_slack;
+    const cv::Rect band = cv::Rect(x0 - left_slack, compared.y + sign * row_offset - row_slack,
+                                   hi - lo + compared.width + left_slack + right_slack, compared.height + 2 * row_slack) &
                           frame;
-    // Not in the image on this side (a region within `lo` columns of the left border: its view in a pair in order
-    // lies beyond the right image; or of the right border, for a swapped pair's).
+    // Not in the image on this side: a region within lo - column_slack columns of the left border (its view in a pair
+    // in order lies beyond the right image), or of the right border for the other side. (The rows always fit: those
+    // beyond the image at the row offset were left out of `compared`.)
     if (band.width < compared.width || band.height < compared.height) return StereoOrder::kNotCompared;
     const cv::Mat searched = grey(image, band);
     if (searched.cols < patch.cols || searched.rows < patch.rows) return StereoOrder::kNotCompared;
@@ -91,9 +94,9 @@ StereoOrder compareStereoOrder(const RawFrame& left, const RawFrame& right, cons
     cv::minMaxLoc(score, nullptr, &top);
     return top;
   };
-  out.forward = best(right, +1);
-  out.backward = best(right, -1);
-  if (out.forward == StereoOrder::kNotCompared) out.backward_in_left = best(left, -1);
+  out.forward = best(right, +1, column_slack);
+  out.backward = best(right, -1, column_slack);
+  if (out.forward == StereoOrder::kNotCompared) out.backward_in_left = best(left, -1, 0);
   return out;
 }
 

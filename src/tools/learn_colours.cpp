@@ -61,8 +61,8 @@ const char* kUsage =
     "  --max-false X       false detections per frame allowed when choosing thresholds (default 0.3)\n"
     "  --detections-out F  the cross-validated (held-out) detections as JSON lines like detect_files' (to score\n"
     "                      or draw them: scripts/evaluate_transdec --detections F)\n"
-    "Exit status: 0 written, 1 bad labels or images (or tables that could not be printed: the files are still\n"
-    "written), 2 bad options or configuration.\n";
+    "Exit status: 0 written, 1 bad labels or images (or a standard output that could not be written: the files\n"
+    "are still written), 2 bad options or configuration.\n";
 
 struct Options {
   std::vector<std::string> images, annotations;
@@ -653,8 +653,8 @@ int main(int argc, char** argv) {
     loadDetectorConfigFile(o.out);  // what was written must load
     std::printf("\nwrote %s and %s\n", o.out.c_str(), model_path.c_str());
     if (std::fflush(stdout) != 0 || std::ferror(stdout)) {  // the files are written; what was printed is lost
-      std::fprintf(stderr, "learn_colours: the tables could not be written to standard output (disk full?); %s and %s "
-                   "were written\n", o.out.c_str(), model_path.c_str());
+      std::fprintf(stderr, "learn_colours: what it printed could not be written to standard output (disk full?); %s "
+                   "and %s were written\n", o.out.c_str(), model_path.c_str());
       return 1;
     }
   } catch (const std::exception& e) {

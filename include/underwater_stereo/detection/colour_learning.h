@@ -33,7 +33,8 @@ bool centreInside(const cv::Rect& roi, const cv::Rect& box);
 /// cannot be read, is not VOC XML (or holds a second root element after its <annotation>), an object has two
 /// <name>, <bndbox> or corners of one kind, or a box is empty, not a number, beyond any image (16384 px) or
 /// (nearly: 0.9 of their union) another object's box too. `declared_size`, when given, receives the image size its <size> declares (empty when it
-/// declares none, or a side of 0); a <size> whose <width> or <height> is no whole number is an error too.
+/// declares none, or a side of 0); a <size> whose <width> or <height> is no whole number, or a <size>, <width> or
+/// <height> given twice, is an error too.
 std::vector<LabelBox> readVocLabels(const std::string& path, cv::Size* declared_size = nullptr);
 
 /// A frame to learn from: its image and labels.
