@@ -242,8 +242,7 @@ void print(const std::string& file, const DetectionResult& r, bool with_3d, bool
   for (const Rejection& rejected : explain ? r.rejected : std::vector<Rejection>{}) {
     std::cout << rejectionJson(file, rejected) << '\n';
   }
-  std::cout.flush();
-  if (!std::cout) throw ResultsUnwritable();
+  if (!tools::standardOutputWritten()) throw ResultsUnwritable();
 }
 
 /// Runs `detect` on one frame and prints its result; false (reported naming `name`) when it fails.

@@ -463,7 +463,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   // The tables are the result: a full disk must not pass for a finished evaluation.
-  if (!(std::cout << std::flush)) {
+  if (!tools::standardOutputWritten()) {
     std::cerr << "evaluate_detector: the results could not be written to standard output (disk full?)\n";
     return 1;
   }

@@ -652,7 +652,7 @@ int main(int argc, char** argv) {
                 o.choose.empty() ? o.min_confidence : o.choose.front(), per_colour);
     loadDetectorConfigFile(o.out);  // what was written must load
     std::printf("\nwrote %s and %s\n", o.out.c_str(), model_path.c_str());
-    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {  // the files are written; what was printed is lost
+    if (!tools::standardOutputWritten()) {  // the files are written; what was printed is lost
       std::fprintf(stderr, "learn_colours: what it printed could not be written to standard output (disk full?); %s "
                    "and %s were written\n", o.out.c_str(), model_path.c_str());
       return 1;

@@ -113,6 +113,13 @@ inline bool parseInterval(const std::string& text, std::pair<double, double>& in
   return true;
 }
 
+/// Whether all a tool printed so far reached its standard output, through iostreams and stdio alike (flushed: a full
+/// disk shows only then). A tool whose printed results are lost says so and exits 1 rather than pass for finished.
+inline bool standardOutputWritten() {
+  std::cout.flush();
+  return std::cout && std::fflush(stdout) == 0 && !std::ferror(stdout);
+}
+
 /// `value` with `digits` decimals, as a table cell.
 inline std::string fixedCell(double value, int digits) {
   std::ostringstream s;
