@@ -111,6 +111,40 @@ TEST_F(DetectFiles, ImageModeAndListFileGiveTwoDimensionalDetections) {
   EXPECT_NE(image.lines[0].find("\"roi\": ["), std::string::npos);
 }
 
+// A head whose workspace (0.5-5 m) spans more disparities than block matching searches (a 1 m baseline: 1092) is
+// taken, not refused: a note on stderr names the depths not ranged, and objects beyond them are found and ranged.
+TEST_F(DetectFiles, ALongBaselineHeadIsTakenWithANoteOnTheDepthsNotRanged) {
+  sim::Scene scene = sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml");
+  scene.sensor.encoding = "bgr8";
+  scene.rig.baseline_m = 1.0;
+  scene.objects[0].position_m = {0.4, 0.35, 2.5};  // both buoys in both views
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  cv::imwrite(path("long_left.png"), pair.left);
+  cv::imwrite(path("long_right.png"), pair.right);
+  camera_calibration_parsers::writeCalibration(path("long_left.yaml"), "left", ros_glue::toCameraInfo(renderer.calibration().left));
+  camera_calibration_parsers::writeCalibration(path("long_right.yaml"), "right",
+                                               ros_glue::toCameraInfo(renderer.calibration().right));
+  const ToolRun r = run("--left " + path("long_left.png") + " --right " + path("long_right.png") + " --left-info " +
+                            path("long_left.yaml") + " --right-info " + path("long_right.yaml") +
+                            " --config " UWS_SOURCE_DIR "/config/detector.yaml",
+                        true);
+  ASSERT_EQ(r.status, 0);
+  ASSERT_EQ(r.lines.size(), 1 + pair.ground_truth.size());
+  EXPECT_TRUE(std::regex_search(r.lines[0], std::regex("^detect_files: note: objects nearer than 0\\.5[0-9]+ m are not "
+                                                       "ranged \\(stereo.min_depth_m 0\\.5\\): with focal length x baseline")))
+      << r.lines[0];
+  for (const auto& gt : pair.ground_truth) {
+    const auto line = std::find_if(r.lines.begin(), r.lines.end(), [&](const std::string& l) {
+      return l.find("\"colour\": \"" + gt.colour + "\"") != std::string::npos;
+    });
+    ASSERT_NE(line, r.lines.end()) << gt.colour;
+    EXPECT_NEAR(field(*line, "range"), gt.range_m, 0.03 * gt.range_m) << *line;
+  }
+  // The head's own baseline: no note.
+  EXPECT_EQ(run(stereoArgs(), true).lines.size(), pair_.ground_truth.size());
+}
+
 TEST_F(DetectFiles, BadInputIsAClearErrorNotACrash) {
   EXPECT_EQ(run("").status, 2);
   EXPECT_EQ(run("--image").status, 2);

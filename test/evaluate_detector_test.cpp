@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -72,12 +74,16 @@ TEST(EvaluateDetector, BadOptionsAreNamedAndNothingIsRendered) {
                {"--random 2 --luma 40,12", "--luma 40,12: target_luma"},
                {"--random 2 --luma 12", "--luma: '12' is not LO,HI"},
                {"--paper-brightness --luma 12,40", "--luma goes with --random, not with --paper-brightness"},
+               {"--random 2 --focal-mm 12,4", "--focal-mm 12,4: focal_length_mm"},
+               {"--random 2 --baseline-m 0.1", "--baseline-m: '0.1' is not LO,HI"},
+               {"--random 2 --baseline-m 0.1,3", "--baseline-m 0.1,3: baseline_m"},
+               {"--paper-brightness --focal-mm 4,12", "--focal-mm goes with --random, not with --paper-brightness"},
                {"--random 2 --seed 12abc", "--seed: '12abc' is not a whole number"},
                {"--random 2 --jobs 1.5", "--jobs: '1.5' is not a whole number"},
                {"--random 2 --worst 3 " UWS_SOURCE_DIR "/package.xml", "/package.xml: not a folder that can be made"},
                {"--random 2 --json /nonexistent/records.json", "--json /nonexistent/records.json: its folder"},
                // A rig the simulator renders but the detector refuses: named before anything is rendered.
-               {"--random 2 --size 32x32", "the sampled scenes (--size): the detector refuses its rig"}};
+               {"--random 2 --size 32x32", "the sampled scenes (--size, --focal-mm, --baseline-m): the detector refuses its rig"}};
   for (const auto& c : cases) {
     const fs::path log = logFile("bad");
     EXPECT_EQ(runTool(kEvaluate + " " + c.options, log), 2) << c.options;
@@ -181,6 +187,32 @@ TEST(EvaluateDetector, LumaSetsTheExposureOfTheSampledPairs) {
       EXPECT_EQ(frames, 0) << bin << "\n" << text;
     }
   }
+}
+
+// --focal-mm and --baseline-m give each sampled scene optics of its own (a head and a detector calibrated for it):
+// the records say which, the summary bins pairs by focal length x baseline, and a head whose workspace spans more
+// disparities than block matching searches is taken, its near end left out.
+TEST(EvaluateDetector, OpticsAreDrawnPerPairWhenAsked) {
+  const fs::path log = logFile("optics"), json = logFile("optics_json");
+  const int status = runTool(kEvaluate + " --random 3 --seed 1181 --size 640x400 --focal-mm 4,24 --baseline-m 0.06,1.5"
+                                         " --json " + json.string(), log);
+  const std::string text = readText(log);
+  fs::remove(log);
+  ASSERT_EQ(status, 0) << text;
+  EXPECT_NE(text.find("| focal x baseline px m |"), std::string::npos) << text;
+  const std::string records = readText(json);
+  fs::remove(json);
+  EXPECT_NE(records.find(" --focal-mm 4,24 --baseline-m 0.06,1.5\""), std::string::npos) << records.substr(0, 200);
+  std::set<double> focal, baseline;
+  const std::regex optics("\"focal_px\": ([0-9.e+-]+), \"baseline_m\": ([0-9.e+-]+)");
+  for (auto it = std::sregex_iterator(records.begin(), records.end(), optics); it != std::sregex_iterator(); ++it) {
+    focal.insert(std::stod((*it)[1]));
+    baseline.insert(std::stod((*it)[2]));
+    EXPECT_GE(std::stod((*it)[2]), 0.06);
+    EXPECT_LE(std::stod((*it)[2]), 1.5);
+  }
+  EXPECT_EQ(focal.size(), 3U);
+  EXPECT_EQ(baseline.size(), 3U);
 }
 
 // A scene object of a colour the configuration does not designate counts as a distractor, and is named so: a

@@ -121,7 +121,7 @@ TEST(RenderScene, ASceneWithTheCameraInsideAnObjectIsRefused) {
   fs::remove_all(dir);
 }
 
-// The sampler's options (--size WxH, --luma LO,HI): a value the sampler cannot take is named as given, one that is
+// The sampler's options (--size WxH, --luma LO,HI, --focal-mm LO,HI, --baseline-m LO,HI): a value the sampler cannot take is named as given, one that is
 // not of the option's form as such; exit 2, nothing written.
 TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
   const fs::path out = fs::temp_directory_path() / ("render_scene_sampler_" + std::to_string(::getpid()));
@@ -132,6 +132,8 @@ TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
                {"--size 320", "--size: '320' is not WIDTHxHEIGHT"}, {"--luma 5,300", "--luma 5,300: target_luma"},
                {"--luma 40,12", "--luma 40,12: target_luma"}, {"--luma 12,40x", "--luma: '12,40x' is not LO,HI"},
                {"--luma 12", "--luma: '12' is not LO,HI"},
+               {"--focal-mm 0.5,8", "--focal-mm 0.5,8: focal_length_mm"}, {"--baseline-m 0.2,0.1", "--baseline-m 0.2,0.1: baseline_m"},
+               {"--focal-mm 8", "--focal-mm: '8' is not LO,HI"},
                {"--size 640x401", "--size 640x401: width and height must be even"},
                // Beyond an int: refused, not wrapped around to 640x400.
                {"--size 4294967936x4294967696", "--size: '4294967936x4294967696' is not WIDTHxHEIGHT"}};

@@ -9,8 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iomanip>
 #include <numeric>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -18,6 +20,7 @@
 #include "underwater_stereo/detection/image_checks.h"
 #include "underwater_stereo/detection/object_pieces.h"
 #include "underwater_stereo/detection/roi_stereo_matcher.h"
+#include "underwater_stereo/detection/sgbm_3way_matcher.h"
 #include "underwater_stereo/detection/shape_features.h"
 #include "underwater_stereo/detection/silhouette_depth.h"
 #include "underwater_stereo/detection/stopwatch.h"
@@ -358,6 +361,16 @@ Detector::Detector(const DetectorConfig& config) : config_(config), search_confi
 }
 
 Detector::~Detector() = default;
+
+std::string Detector::workspaceNote() const {
+  if (!matcher_ || matcher_->nearestDepthM() <= config_.stereo.min_depth_m) return "";
+  const StereoCalibration& c = matcher_->calibration();
+  std::ostringstream note;
+  note << std::setprecision(3) << "objects nearer than " << matcher_->nearestDepthM() << " m are not ranged (stereo.min_depth_m "
+       << config_.stereo.min_depth_m << "): with focal length x baseline " << c.focalPx() * c.baselineM()
+       << " px m the workspace spans more disparities than block matching searches (" << kMaxSgbmDisparities << ")";
+  return note.str();
+}
 
 std::vector<BlobProposal> Detector::proposals(const RawFrame& frame) const {
   if (frame.empty()) throw std::invalid_argument("Detector::proposals: empty frame");

@@ -191,17 +191,6 @@ RoiStereoMatcher::RoiStereoMatcher(const StereoCalibration& calibration, const S
   std::vector<std::string> problems = calibration_.validate();
   const auto config_problems = config_.validate();
   problems.insert(problems.end(), config_problems.begin(), config_problems.end());
-  if (problems.empty()) {
-    const auto [d_lo, d_hi] = workspaceDisparities();
-    if (roundUpToDisparityStep(d_hi - d_lo) > kMaxSgbmDisparities) {
-      problems.push_back("stereo: the workspace " + std::to_string(config_.min_depth_m) + "-" +
-                         std::to_string(config_.max_depth_m) + " m spans " + std::to_string(d_hi - d_lo) +
-                         " disparities with this calibration (focal length x baseline " +
-                         std::to_string(calibration_.focalPx() * calibration_.baselineM()) +
-                         " px m); block matching searches at most " + std::to_string(kMaxSgbmDisparities) +
-                         ": raise min_depth_m");
-    }
-  }
   if (!problems.empty()) throw std::invalid_argument(joinProblems("RoiStereoMatcher", problems));
   buildMaps(calibration_.left, left_map_xy_, left_map_fraction_);
   buildMaps(calibration_.right, right_map_xy_, right_map_fraction_);
@@ -378,7 +367,7 @@ cv::Mat RoiStereoMatcher::blockMatch(const cv::Mat& left_band, const cv::Mat& ri
 
 void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band,
                                  RoiPoints& out) const {
-  const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
+  const double f = calibration_.focalPx(), baseline = calibration_.baselineM(), nearest = nearestDepthM();
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
@@ -390,7 +379,7 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
       const double disparity = d[u] / static_cast<double>(cv::StereoMatcher::DISP_SCALE) + band.min_disparity;
       if (u + band.left.x - disparity < 0) continue;  // matched into the padding left of the right image
       const double z = f * baseline / disparity;
-      if (z < config_.min_depth_m || z > config_.max_depth_m) continue;
+      if (z < nearest || z > config_.max_depth_m) continue;
       ++out.matched_pixels;
       if ((v % step) != 0 || (u % step) != 0) continue;
       const cv::Vec3d rect((u + band.left.x - cx) * z / f, (v + band.left.y - cy) * z / f, z);
@@ -402,7 +391,7 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
 
 bool RoiStereoMatcher::inWorkspace(double disparity) const {
   const double fb = calibration_.focalPx() * calibration_.baselineM();
-  return disparity >= fb / config_.max_depth_m && disparity <= fb / config_.min_depth_m;
+  return disparity >= fb / config_.max_depth_m && disparity <= fb / nearestDepthM();
 }
 
 StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const {
@@ -428,9 +417,15 @@ StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& 
 }
 
 std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {
-  const double f = calibration_.focalPx(), baseline = calibration_.baselineM();
-  return {static_cast<int>(std::floor(f * baseline / config_.max_depth_m)),
-          static_cast<int>(std::ceil(f * baseline / config_.min_depth_m))};
+  const double fb = calibration_.focalPx() * calibration_.baselineM();
+  const int far = static_cast<int>(std::floor(fb / config_.max_depth_m));
+  // A long baseline or lens spreads the workspace over more disparities than block matching searches: its near
+  // end is then left out (nearestDepthM()), not the calibration refused.
+  return {far, std::min(static_cast<int>(std::ceil(fb / config_.min_depth_m)), far + kMaxSgbmDisparities)};
+}
+
+double RoiStereoMatcher::nearestDepthM() const {
+  return std::max(config_.min_depth_m, calibration_.focalPx() * calibration_.baselineM() / workspaceDisparities().second);
 }
 
 cv::Rect RoiStereoMatcher::silhouetteBox(const cv::Rect& box) const {

@@ -303,6 +303,9 @@ class DetectorNodelet : public nodelet::Nodelet {
           detector_ = std::make_shared<const Detector>(config_, out.input.calibration);
           calibration_ = out.input.calibration;
           rebuild_ = false;
+          if (const std::string note = detector_->workspaceNote(); !note.empty()) {
+            NODELET_WARN_STREAM("DetectorNodelet: " << note);
+          }
         } catch (const std::invalid_argument& e) {
           detector_.reset();
           badInput(e.what());

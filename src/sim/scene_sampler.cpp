@@ -185,6 +185,8 @@ std::vector<std::string> SceneSamplerConfig::validate() const {
   ordered("turbidity", turbidity.first, turbidity.second, 0, 1);
   ordered("water_type", water_type.first, water_type.second, 0, 2);
   ordered("target_luma", target_luma.first, target_luma.second, 1, 254);
+  ordered("focal_length_mm", focal_length_mm.first, focal_length_mm.second, 1, 100);
+  ordered("baseline_m", baseline_m.first, baseline_m.second, 0.01, 2);
   ordered("occluder_probability", occluder_probability, occluder_probability, 0, 1);
   ordered("border_probability", border_probability, border_probability, 0, 1);
   if (designated.empty()) p.push_back("designated: no colour family");
@@ -263,6 +265,9 @@ SampledScene sampleScene(std::uint64_t seed, const SceneSamplerConfig& config) {
   s.rig.principal_offset_px *= static_cast<double>(config.width) / s.rig.width;
   s.rig.width = config.width;
   s.rig.height = config.height;
+  Draw optics(seed ^ 0x6F70746963730000ULL);  // "optics": its own stream, so that fixed optics keep every scene
+  s.rig.focal_length_mm = optics.uniform(config.focal_length_mm);
+  s.rig.baseline_m = optics.uniform(config.baseline_m);
   drawWaterAndLight(draw, config, out);
   const StereoRig rig(s.rig);
 

@@ -269,6 +269,7 @@ int run(int argc, char** argv) {
     config = loadDetectorConfigFile(o.config);
     flat = std::make_unique<Detector>(config);
     if (!o.left.empty()) stereo = std::make_unique<Detector>(config, readCalibrations(o.left_info, o.right_info));
+    if (stereo && !stereo->workspaceNote().empty()) std::cerr << "detect_files: note: " << stereo->workspaceNote() << "\n";
   } catch (const std::exception& e) {
     std::cerr << "detect_files: " << e.what() << "\n" << kUsage;
     return 2;

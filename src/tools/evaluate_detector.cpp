@@ -13,6 +13,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -36,6 +37,7 @@ using namespace underwater_stereo;
 const char* kUsage =
     "usage: evaluate_detector --config detector.yaml [--frames N] [--rate HZ] [--verbose] SCENE.yaml...\n"
     "       evaluate_detector --config detector.yaml --random N [--seed S] [--jobs J] [--size WxH] [--luma LO,HI]\n"
+    "                         [--focal-mm LO,HI] [--baseline-m LO,HI]\n"
     "                         [--json FILE] [--worst K DIR] [--shape-rules] [--without-check] [--swapped]\n"
     "       evaluate_detector --config detector.yaml --paper-brightness [--seed S] [--scenes N] [--levels L,L,..]\n"
     "                         [--size WxH]\n"
@@ -52,7 +54,9 @@ const char* kUsage =
     "    given the wrong way round (the right image as the left): what a head wired swapped reports (its\n"
     "    detections lie in the right image and are matched to the left one's truth: count them, found and false\n"
     "    together; the pairs taken for swapped are counted at the end); --luma LO,HI: every scene exposed to a\n"
-    "    mean luma drawn from [LO, HI] instead of the sampler's 30-200 (e.g. 12,40: dark water).\n"
+    "    mean luma drawn from [LO, HI] instead of the sampler's 30-200 (e.g. 12,40: dark water); --focal-mm LO,HI\n"
+    "    and --baseline-m LO,HI: each scene's lens focal length (in air) and baseline drawn from these instead of\n"
+    "    the head's 8 mm and 0.12 m (other optics; each pair then gets its own head and calibrated detector).\n"
     "  --paper-brightness: the scene of seed S at the paper's eight brightness levels (mean luma 242.8 .. 18);\n"
     "    --levels L,L,..: at these mean lumas instead (each in (0, 255)); --scenes N: the scenes of seeds\n"
     "    S..S+N-1, each in its table, then recall and false detections per level over the frames that reached it\n"
@@ -221,10 +225,18 @@ tools::PairRecord runPair(const sim::SceneSamplerConfig& sampler, const sim::Ren
                           DetectionResult* result_out = nullptr) {
   const auto started = std::chrono::steady_clock::now();
   const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
-  const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
+  // Scenes of their own optics get their own head, and a detector calibrated for it.
+  std::optional<sim::Renderer> own_head;
+  std::optional<Detector> own_detector;
+  if (sampler.variesOptics()) {
+    own_head.emplace(sampled.scene);
+    own_detector.emplace(detector.config(), own_head->calibration());
+  }
+  const sim::RenderedPair pair = own_head ? own_head->render(0.0, 0) : head.withScene(sampled.scene).render(0.0, 0);
   const double render_ms = msSince(started);
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
-  const DetectionResult result = swapped ? detector.detect(right, left) : detector.detect(left, right);
+  const Detector& used = own_detector ? *own_detector : detector;
+  const DetectionResult result = swapped ? used.detect(right, left) : used.detect(left, right);
   const cv::Mat bgr = left.bgr();
   tools::PairRecord record = tools::evaluatePair(sampled, pair, result, sim::meanLuma(bgr));
   record.render_ms = render_ms;
@@ -314,7 +326,8 @@ std::vector<Mode> modesOf(const std::string& option) {
       {"--seed", {M::kRandom, M::kPaperBrightness}}, {"--size", {M::kRandom, M::kPaperBrightness}},
       {"--jobs", {M::kRandom}},               {"--json", {M::kRandom}},
       {"--worst", {M::kRandom}},              {"--swapped", {M::kRandom}},
-      {"--luma", {M::kRandom}},
+      {"--luma", {M::kRandom}},               {"--focal-mm", {M::kRandom}},
+      {"--baseline-m", {M::kRandom}},
       {"--scenes", {M::kPaperBrightness}},    {"--levels", {M::kPaperBrightness}}};
   const auto it = kModes.find(option);
   return it == kModes.end() ? std::vector<Mode>{} : it->second;
@@ -433,9 +446,13 @@ int main(int argc, char** argv) {
     // refuses is named now, not after the table's header.
     scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, frames, rate, problems);
     if (scenes.empty() && config_loaded) {
+      // Each sampled scene is rendered once, at time 0; of varied optics, the longest lens and baseline are tried
+      // (the most disparities to search).
+      sim::Scene widest = sim::sampleScene(random.seed, sampler).scene;
+      widest.rig.focal_length_mm = sampler.focal_length_mm.second;
+      widest.rig.baseline_m = sampler.baseline_m.second;
       const std::string problem =
-          tools::sceneProblem(config, sim::sampleScene(random.seed, sampler).scene, "the sampled scenes (--size)", 1,
-                              1.0);  // each sampled scene is rendered once, at time 0
+          tools::sceneProblem(config, widest, "the sampled scenes (--size, --focal-mm, --baseline-m)", 1, 1.0);
       if (!problem.empty()) problems.push_back(problem);
     }
     if (!problems.empty()) {
@@ -450,7 +467,7 @@ int main(int argc, char** argv) {
       status = evaluateRandom(config,
                               config_path + (shape_rules ? " --shape-rules" : "") +
                                   (without_check ? " --without-check" : "") + (random.swapped ? " --swapped" : "") +
-                                  (sampler_given.luma.empty() ? "" : " --luma " + sampler_given.luma),
+                                  sampler_given.given(),
                               sampler, random);
     } else if (paper_brightness) {
       tools::sweepBrightness(std::cout, config, sampler, random.seed, std::max(paper_scenes, 1),

@@ -102,6 +102,8 @@ std::string binLabel(double value, const std::vector<double>& edges, int precisi
 const std::vector<double> kRangeEdges{0.5, 1, 2, 3, 4, 5};
 const std::vector<double> kTurbidityEdges{0, 0.25, 0.5, 0.75, 1};
 const std::vector<double> kLumaEdges{0, 40, 80, 120, 160, 200, 255};
+/// [px m] focal length x baseline: the disparity of an object 1 m away (the head's own optics: 218).
+const std::vector<double> kFocalBaselineEdges{0, 150, 250, 400, 600, 1000, 4000};
 
 std::string waterName(double water_type) {
   return water_type < 0.5 ? "blue" : water_type < 1.5 ? "green" : "brown";
@@ -155,6 +157,8 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   rec.turbidity = sampled.turbidity;
   rec.water_type = sampled.water_type;
   rec.target_luma = sampled.target_luma;
+  rec.focal_px = sampled.scene.rig.focalPx();
+  rec.baseline_m = sampled.scene.rig.baseline_m;
   rec.luma = luma;
   rec.quality = qualityStatusName(result.quality.status);
   rec.detect_ms = result.timings.total_ms;
@@ -274,6 +278,15 @@ void printSummary(std::ostream& out, const std::vector<PairRecord>& pairs) {
     std::string label = binLabel(p.luma, kLumaEdges, 0);
     return std::string(label.size() < 7 ? 7 - label.size() : 0, ' ') + label;  // sorts numerically
   });
+  const bool optics_vary = std::any_of(pairs.begin(), pairs.end(), [&](const PairRecord& p) {
+    return p.focal_px != pairs.front().focal_px || p.baseline_m != pairs.front().baseline_m;
+  });
+  if (optics_vary) {
+    printPairGroup(out, "focal x baseline px m", pairs, [](const PairRecord& p) {
+      std::string label = binLabel(p.focal_px * p.baseline_m, kFocalBaselineEdges, 0);
+      return std::string(label.size() < 9 ? 9 - label.size() : 0, ' ') + label;  // sorts numerically
+    });
+  }
   printObjectGroup(out, "colour", pairs, [](const ObjectRecord& o) { return o.colour; });
   printObjectGroup(out, "shape", pairs, [](const ObjectRecord& o) { return shapeName(o.shape); });
   printObjectGroup(out, "cut by border", pairs, [](const ObjectRecord& o) { return o.cut_by_border ? "yes" : "no"; });
@@ -314,6 +327,7 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
     out << (i ? ",\n" : "\n") << "  {\"seed\": " << p.seed << ", \"turbidity\": " << number(p.turbidity)
         << ", \"water_type\": " << number(p.water_type) << ", \"water\": " << quoted(waterName(p.water_type))
         << ", \"target_luma\": " << number(p.target_luma) << ", \"luma\": " << number(p.luma)
+        << ", \"focal_px\": " << number(p.focal_px) << ", \"baseline_m\": " << number(p.baseline_m)
         << ", \"quality\": " << quoted(p.quality) << ", \"render_ms\": " << number(p.render_ms)
         << ", \"detect_ms\": " << number(p.detect_ms) << ",\n   \"objects\": [";
     for (std::size_t k = 0; k < p.objects.size(); ++k) {

@@ -63,6 +63,8 @@ struct PairRecord {
   std::uint64_t seed = 0;
   double turbidity = 0.0, water_type = 0.0, target_luma = 0.0;
   double luma = 0.0;                ///< mean BT.601 luma of the demosaiced left image
+  double focal_px = 0.0;            ///< [px] the head's focal length in water (its optics: --focal-mm)
+  double baseline_m = 0.0;          ///< [m] the head's baseline (--baseline-m)
   std::string quality;              ///< the detector's quality status
   double render_ms = 0.0, detect_ms = 0.0;
   bool looks_swapped = false;       ///< the detector took it for a pair in the wrong order (DetectionResult)

@@ -38,7 +38,8 @@ namespace {
 const char* kUsage =
     "usage: render_scene --scene SCENE.yaml [--frames N] [--rate HZ] [--bag OUT.bag] [--png-dir DIR]\n"
     "                    [--namespace stereo] [--start-time SECONDS]\n"
-    "       render_scene --random N [--seed S] --out DIR [--size WxH] [--luma LO,HI]\n"
+    "       render_scene --random N [--seed S] --out DIR [--size WxH] [--luma LO,HI] [--focal-mm LO,HI]\n"
+    "                    [--baseline-m LO,HI]\n"
     "  Renders frames 0..N-1 (scene time k/HZ) of SCENE.yaml.\n"
     "  --bag      writes <ns>/left/image_raw, <ns>/left/camera_info, <ns>/right/..., <ns>/ground_truth\n"
     "  --png-dir  writes left_NNNN.png / right_NNNN.png (demosaiced BGR), left.yaml / right.yaml\n"
@@ -50,7 +51,9 @@ const char* kUsage =
     "             when under 400 px) and DIR/masks/<id>.png (0 background, k = the XML's k-th <object>).\n"
     "             Distractors (other colours) are background.\n"
     "  --luma     the mean luma (BT.601, 1-254) each sampled scene is exposed to, drawn from [LO, HI] (default\n"
-    "             30,200: the sampler's range); e.g. 12,40 for dark water.\n";
+    "             30,200: the sampler's range); e.g. 12,40 for dark water.\n"
+    "  --focal-mm, --baseline-m  each sampled scene's lens focal length (in air, 1-100) and baseline (0.01-2 m)\n"
+    "             drawn from [LO, HI] (default 8,8 and 0.12,0.12: the simulated head's); other optics.\n";
 
 struct Options {
   std::string scene, bag, png_dir, ns = "stereo", out_dir;
@@ -110,7 +113,8 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
     }
   }
   // An option of the other mode would be ignored: refused instead, naming the mode it goes with.
-  static const std::vector<std::string> kRandomOnly{"--random", "--seed", "--out", "--size", "--luma"};
+  static const std::vector<std::string> kRandomOnly{"--random", "--seed", "--out", "--size", "--luma",
+                                                    "--focal-mm", "--baseline-m"};
   static const std::vector<std::string> kSceneOnly{"--scene", "--bag", "--png-dir", "--namespace", "--frames", "--rate",
                                                    "--start-time"};
   const bool random = o.random != 0;
@@ -180,7 +184,9 @@ void writeTrainingData(const Options& opt) {
   for (int i = 0; i < opt.random; ++i) {
     const auto seed = static_cast<std::uint64_t>(opt.seed + i);
     const sim::SampledScene sampled = sim::sampleScene(seed, opt.sampler);
-    const sim::RenderedPair pair = head.withScene(sampled.scene).render(0.0, 0);
+    // A scene of its own optics needs a head of its own.
+    const sim::RenderedPair pair = opt.sampler.variesOptics() ? sim::Renderer(sampled.scene).render(0.0, 0)
+                                                              : head.withScene(sampled.scene).render(0.0, 0);
     const std::vector<std::size_t> labelled = sim::labelledObjects(pair.ground_truth, opt.sampler.designated);
     char id[32];
     std::snprintf(id, sizeof(id), "%06llu", static_cast<unsigned long long>(seed));

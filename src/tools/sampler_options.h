@@ -11,12 +11,14 @@
 namespace underwater_stereo {
 namespace tools {
 
-/// --size WxH and --luma LO,HI, read strictly and kept as given, so that a value the sampler refuses is named by the
-/// option that set it.
+/// --size WxH, --luma LO,HI, --focal-mm LO,HI and --baseline-m LO,HI, read strictly and kept as given, so that a
+/// value the sampler refuses is named by the option that set it.
 struct SamplerOptions {
-  std::string size, luma;  ///< as given ("" when not given)
+  std::string size, luma, focal, baseline;  ///< as given ("" when not given)
 
-  static bool takes(const std::string& option) { return option == "--size" || option == "--luma"; }
+  static bool takes(const std::string& option) {
+    return option == "--size" || option == "--luma" || option == "--focal-mm" || option == "--baseline-m";
+  }
 
   /// Reads `value` of `option` (one that takes() accepts) into `sampler`; "" or why it is not of the option's form.
   std::string read(const std::string& option, const std::string& value, sim::SceneSamplerConfig& sampler) {
@@ -24,17 +26,41 @@ struct SamplerOptions {
       size = value;
       return parseImageSize(value, sampler.width, sampler.height) ? "" : "--size: '" + value + "' is not WIDTHxHEIGHT";
     }
-    luma = value;
-    return parseInterval(value, sampler.target_luma) ? "" : "--luma: '" + value + "' is not LO,HI";
+    auto [given, range] = interval(option, sampler);
+    *given = value;
+    return parseInterval(value, *range) ? "" : option + ": '" + value + "' is not LO,HI";
+  }
+
+  /// Every option given, as a command line would repeat it (" --size 960x600 --luma 12,40"; "" when none).
+  std::string given() const {
+    std::string out;
+    for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--size", &size}, {"--luma", &luma},
+                                        {"--focal-mm", &focal}, {"--baseline-m", &baseline}}) {
+      if (!value->empty()) out += std::string(" ") + option + " " + *value;
+    }
+    return out;
   }
 
   /// The first of `sampler`'s problems named as the option that set it ("--luma LO,HI: ..." for the target luma,
-  /// "--size WxH: ..." otherwise: only these options set the sampler); "" when none.
+  /// "--size WxH: ..." for the image size: only these options set the sampler); "" when none.
   std::string problem(const sim::SceneSamplerConfig& sampler) const {
     const std::vector<std::string> problems = sampler.validate();
     if (problems.empty()) return "";
     const std::string& p = problems.front();
-    return (p.rfind("target_luma", 0) == 0 ? "--luma " + luma : "--size " + size) + ": " + p;
+    auto starts = [&p](const char* field) { return p.rfind(field, 0) == 0; };
+    const std::string named = starts("target_luma")       ? "--luma " + luma
+                              : starts("focal_length_mm") ? "--focal-mm " + focal
+                              : starts("baseline_m")      ? "--baseline-m " + baseline
+                                                          : "--size " + size;
+    return named + ": " + p;
+  }
+
+ private:
+  /// Where an interval option is kept as given, and the sampler's range it sets.
+  std::pair<std::string*, std::pair<double, double>*> interval(const std::string& option, sim::SceneSamplerConfig& sampler) {
+    if (option == "--luma") return {&luma, &sampler.target_luma};
+    if (option == "--focal-mm") return {&focal, &sampler.focal_length_mm};
+    return {&baseline, &sampler.baseline_m};
   }
 };
 

@@ -91,6 +91,11 @@ class Detector {
 
   const DetectorConfig& config() const { return config_; }
 
+  /// What a user should know about the workspace with this calibration: "" when stereo searches all of
+  /// stereo.min_depth_m .. max_depth_m (and for a 2D-only detector); else which near depths are not ranged and
+  /// why (a long baseline or lens: RoiStereoMatcher::nearestDepthM).
+  std::string workspaceNote() const;
+
  private:
   /// What the check after stereo (colour_model.check_file) may do with a measured candidate besides scoring it.
   struct CheckUse {

@@ -24,7 +24,7 @@
 namespace underwater_stereo {
 
 struct StereoMatchConfig {
-  double min_depth_m = 0.5;    ///< [m] workspace: nearest depth searched (largest disparity)
+  double min_depth_m = 0.5;    ///< [m] workspace: nearest depth searched (largest disparity; RoiStereoMatcher::nearestDepthM)
   double max_depth_m = 5.0;    ///< [m] farthest depth searched
   int block_size = 5;          ///< SGBM block (odd, 3..11)
   int uniqueness_ratio = 5;    ///< SGBM: best cost must beat the second by this percentage
@@ -83,6 +83,11 @@ class RoiStereoMatcher {
 
   const StereoCalibration& calibration() const { return calibration_; }
 
+  /// [m] The nearest depth matched: stereo.min_depth_m, or farther when the workspace would span more than
+  /// kMaxSgbmDisparities disparities with this calibration (focal length x baseline over 512 px m at 0.5-5 m):
+  /// its near end is then not searched.
+  double nearestDepthM() const;
+
   /// How the left image's patch over `roi` (raw pixels) matches the right image at the workspace's disparities of
   /// either sign (compareStereoOrder): whether the pair looks swapped there.
   StereoOrder stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const;
@@ -120,7 +125,7 @@ class RoiStereoMatcher {
   void reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
   bool inWorkspace(double disparity) const;
-  /// Disparities [px] of the workspace's far and near ends.
+  /// Disparities [px] of the workspace's far and near ends (the near one at most kMaxSgbmDisparities beyond the far).
   std::pair<int, int> workspaceDisparities() const;
   /// The rectified box the left silhouette is read in, and the rectified columns (same rows) that hold it
   /// and the right silhouette at every workspace disparity (empty if none fits in the image).

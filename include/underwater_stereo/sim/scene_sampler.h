@@ -29,12 +29,21 @@ struct SceneSamplerConfig {
   std::pair<double, double> turbidity{0.0, 1.0};  ///< 0: clear, 1: murky (scattering 0.02 .. 0.25 /m)
   std::pair<double, double> water_type{0.0, 2.0}; ///< 0: clear blue ocean, 1: green coastal, 2: brown (CDOM)
   std::pair<double, double> target_luma{30.0, 200.0};  ///< auto-exposure's target mean BT.601 luma of the left image
+  /// [mm] lens focal length in air (uniform; the sensor keeps its size, so a shorter lens sees wider). Drawn, with
+  /// the baseline, from a generator of its own: the other draws of a seed do not depend on these two ranges.
+  std::pair<double, double> focal_length_mm{RigConfig{}.focal_length_mm, RigConfig{}.focal_length_mm};
+  std::pair<double, double> baseline_m{RigConfig{}.baseline_m, RigConfig{}.baseline_m};  ///< [m] between the cameras
   double occluder_probability = 0.35;             ///< chance per scene that one object is placed to hide part of another
   double border_probability = 0.25;               ///< chance per object that its centre may lie at or beyond the border
   /// Designated colour families, named as the detector config names them.
   std::vector<std::string> designated{"red", "orange", "yellow", "green"};
   /// Distractor colour families (never designated).
   std::vector<std::string> distractor_colours{"white", "black", "grey", "blue", "purple"};
+
+  /// Whether scenes differ in their optics (focal length or baseline), so that each needs its own head.
+  bool variesOptics() const {
+    return focal_length_mm.first != focal_length_mm.second || baseline_m.first != baseline_m.second;
+  }
 
   /// Every problem with the ranges (min > max, a colour family the sampler does not know...). Empty when valid.
   std::vector<std::string> validate() const;
