@@ -195,6 +195,39 @@ TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
                std::invalid_argument);
 }
 
+TEST(RoiStereoMatcher, AWindowThatMissedTheObjectsDisparityGivesWayToTheWholeWorkspace) {
+  // A disc of the panel as the candidate, and a right colour mask whose disc lies some disparities beyond the panel's
+  // true one (another object of its colour): the window around that silhouette misses the panel, block matching's
+  // best costs pile up at the window's end, and the whole workspace is searched: the points lie at the panel's depth.
+  const GreyPair pair = panelAt(2.0);
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const int disparity = static_cast<int>(std::lround(pair.calibration.focalPx() * pair.calibration.baselineM() / 2.0));
+  const cv::Rect roi(290, 170, 80, 70);
+  cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(0));
+  cv::ellipse(mask, cv::Point(40, 35), cv::Size(32, 27), 0, 0, 360, cv::Scalar(255), cv::FILLED);
+  auto rightDiscAt = [&](int shift) {
+    cv::Mat right_colour(pair.left.size(), CV_8UC1, cv::Scalar(0));
+    mask.copyTo(right_colour(roi - cv::Point(shift, 0)));
+    return right_colour;
+  };
+  for (const int wrong : {12, 40}) {
+    const RoiPoints pts = matcher.match(pair.left, pair.right, roi, mask, rightDiscAt(disparity + wrong));
+    // (the raw frames' discs, rectified, shift a few pixels less than they were moved: the cameras are turned)
+    EXPECT_GT(pts.silhouette_disparity, disparity + wrong / 2) << wrong;
+    EXPECT_TRUE(pts.window_missed) << wrong;
+    EXPECT_GE(pts.searched_disparities, workspaceDisparities(pair.calibration)) << wrong;
+    ASSERT_GT(pts.points.size(), 500U) << wrong;
+    EXPECT_NEAR(medianDepth(pts), 2.0, 0.02) << wrong;
+  }
+  // The right disc moved by the panel's disparity: its window (with its slack for the turned cameras) holds the
+  // panel's, nothing more is searched.
+  const RoiPoints pts = matcher.match(pair.left, pair.right, roi, mask, rightDiscAt(disparity));
+  EXPECT_FALSE(pts.window_missed);
+  EXPECT_LT(pts.searched_disparities, workspaceDisparities(pair.calibration) / 2);
+  ASSERT_GT(pts.points.size(), 500U);
+  EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
+}
+
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
   const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});

@@ -41,12 +41,34 @@ constexpr int kDisp12MaxDiff = 1;
 /// Half-size matches of an object without a silhouette needed to narrow the full-size search around their
 /// median (an object's worth of points, as min_cluster_points' default; fewer: the whole workspace is searched).
 constexpr int kMinCoarseMatches = 30;
+/// A window missed the object's disparity when more than this share of the mask's matched pixels lie within a pixel
+/// of its first or last disparity (block matching's best cost at the window's end: the true one lies beyond it).
+/// Chosen on the validation seeds between 0.15 and 0.5 (docs/accuracy.md, "A window that missed").
+constexpr double kMaxWindowEdgeShare = 0.3;
 /// Block matching searches disparities in blocks of this many (SgbmParams::num_disparities, as OpenCV's
 /// numDisparities, must be a multiple).
 constexpr int kDisparityStep = 16;
 
 /// `n` disparities rounded up to whole steps.
 int roundUpToDisparityStep(int n) { return ((n + kDisparityStep - 1) / kDisparityStep) * kDisparityStep; }
+
+/// The share of the mask's matched pixels whose disparity (CV_16SC1, 1/16 px, from 0 to num_disparities - 1) lies
+/// within a pixel of either end of the searched window; 0 when none matched.
+double windowEdgeShare(const cv::Mat& mask_band, const cv::Mat& disparity16, int num_disparities) {
+  constexpr int kOnePixel = cv::StereoMatcher::DISP_SCALE;
+  const int last = (num_disparities - 1) * kOnePixel;
+  int matched = 0, at_edge = 0;
+  for (int v = 0; v < mask_band.rows; ++v) {
+    const auto* m = mask_band.ptr<std::uint8_t>(v);
+    const auto* d = disparity16.ptr<short>(v);
+    for (int u = 0; u < mask_band.cols; ++u) {
+      if (!m[u] || d[u] < 0) continue;
+      ++matched;
+      at_edge += d[u] < kOnePixel || d[u] >= last - kOnePixel;
+    }
+  }
+  return matched > 0 ? static_cast<double>(at_edge) / matched : 0.0;
+}
 
 cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
   return cv::Matx33d(c.P(0, 0), c.P(0, 1), c.P(0, 2), c.P(1, 0), c.P(1, 1), c.P(1, 2), 0, 0, 1);
@@ -271,7 +293,20 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   }
 
   out.searched_disparities = band.num_disparities;
-  const cv::Mat disparity16 = blockMatch(left_band, right_band, band.num_disparities);
+  cv::Mat disparity16 = blockMatch(left_band, right_band, band.num_disparities);
+  // A window whose matches pile up at its ends missed the object's disparity (a wrong silhouette or half-size
+  // median): the whole workspace is searched instead.
+  if (!coversWorkspace(band) && windowEdgeShare(mask_band, disparity16, band.num_disparities) > kMaxWindowEdgeShare) {
+    const MatchBand whole = matchBand(disparityWindow(std::numeric_limits<double>::quiet_NaN(), box), box);
+    if (!nothingToMatch(whole)) {
+      band = whole;
+      rectifyBands(band);
+      out.mask_pixels = cv::countNonZero(mask_band);
+      out.searched_disparities = band.num_disparities;
+      out.window_missed = true;
+      disparity16 = blockMatch(left_band, right_band, band.num_disparities);
+    }
+  }
   out.matching_ms = lap.lapMs();
   reproject(mask_band, disparity16, band, out);
   out.reprojection_ms = lap.lapMs();
@@ -387,6 +422,11 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
       out.points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
     }
   }
+}
+
+bool RoiStereoMatcher::coversWorkspace(const MatchBand& band) const {
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  return band.min_disparity <= d_lo && band.min_disparity + band.num_disparities >= d_hi;
 }
 
 bool RoiStereoMatcher::inWorkspace(double disparity) const {

@@ -51,6 +51,9 @@ struct RoiPoints {
   /// never more than the box's right edge allows (a pixel at column x is in the right image up to disparity x).
   /// 0 when nothing was matched.
   int searched_disparities = 0;
+  /// The window (around the silhouette's or the half-size search's disparity) missed: most matches lay at its ends,
+  /// so the whole workspace was searched (searched_disparities counts that search).
+  bool window_missed = false;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
   /// mask), block matching, reprojecting the mask's pixels.
   double rectify_ms = 0, matching_ms = 0, reprojection_ms = 0;
@@ -123,6 +126,8 @@ class RoiStereoMatcher {
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
   /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`).
   void reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const;
+  /// Whether `band` searches every disparity of the workspace.
+  bool coversWorkspace(const MatchBand& band) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
   bool inWorkspace(double disparity) const;
   /// Disparities [px] of the workspace's far and near ends (the near one at most kMaxSgbmDisparities beyond the far).
