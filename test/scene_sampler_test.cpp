@@ -184,6 +184,40 @@ TEST(SceneSampler, AlbedoFromHsvIsLinearSrgb) {
   EXPECT_NEAR(albedoFromHsv(0, 0, 0.5).x(), 0.214, 1e-3);
 }
 
+// Optics drawn from ranges (other heads) come from a stream of their own: with the head's lens and baseline as a range
+// the scene is the one fixed optics give, draw for draw; a wider range gives each seed its own optics, within it.
+TEST(SceneSampler, OpticsAreDrawnWithinTheirRangesWithoutMovingTheOtherDraws) {
+  SceneSamplerConfig fixed = smallConfig(), same = smallConfig(), varied = smallConfig();
+  same.focal_length_mm = {RigConfig{}.focal_length_mm, RigConfig{}.focal_length_mm};
+  same.baseline_m = {RigConfig{}.baseline_m, RigConfig{}.baseline_m};
+  EXPECT_FALSE(same.variesOptics());
+  varied.focal_length_mm = {4.0, 16.0};
+  varied.baseline_m = {0.06, 0.3};
+  EXPECT_TRUE(varied.variesOptics());
+  std::set<double> focal, baseline;
+  for (std::uint64_t seed = 4000; seed < 4010; ++seed) {
+    const SampledScene a = sampleScene(seed, fixed), b = sampleScene(seed, same), v = sampleScene(seed, varied);
+    EXPECT_EQ(a.scene.rig.focal_length_mm, RigConfig{}.focal_length_mm);
+    EXPECT_EQ(a.turbidity, b.turbidity);
+    EXPECT_EQ(a.target_luma, b.target_luma);
+    ASSERT_EQ(a.scene.objects.size(), b.scene.objects.size());
+    for (std::size_t i = 0; i < a.scene.objects.size(); ++i) EXPECT_EQ(a.scene.objects[i].position_m, b.scene.objects[i].position_m);
+    EXPECT_EQ(a.turbidity, v.turbidity);  // drawn before the objects, whose placement depends on the optics
+    EXPECT_GE(v.scene.rig.focal_length_mm, 4.0);
+    EXPECT_LE(v.scene.rig.focal_length_mm, 16.0);
+    EXPECT_GE(v.scene.rig.baseline_m, 0.06);
+    EXPECT_LE(v.scene.rig.baseline_m, 0.3);
+    EXPECT_EQ(sampleScene(seed, varied).scene.rig.baseline_m, v.scene.rig.baseline_m);
+    focal.insert(v.scene.rig.focal_length_mm);
+    baseline.insert(v.scene.rig.baseline_m);
+  }
+  EXPECT_EQ(focal.size(), 10U);
+  EXPECT_EQ(baseline.size(), 10U);
+  varied.baseline_m = {0.3, 0.06};
+  varied.focal_length_mm = {0.5, 8.0};
+  EXPECT_EQ(varied.validate().size(), 2U);
+}
+
 TEST(SceneSampler, InvalidConfigIsRefusedWithEveryProblem) {
   SceneSamplerConfig c;
   c.range_m = {5.0, 0.5};
