@@ -204,13 +204,16 @@ TEST(EvaluateDetector, OpticsAreDrawnPerPairWhenAsked) {
   fs::remove(json);
   EXPECT_NE(records.find(" --focal-mm 4,24 --baseline-m 0.06,1.5\""), std::string::npos) << records.substr(0, 200);
   std::set<double> focal, baseline;
+  double widest = 0;  // [px m] focal length x baseline
   const std::regex optics("\"focal_px\": ([0-9.e+-]+), \"baseline_m\": ([0-9.e+-]+)");
   for (auto it = std::sregex_iterator(records.begin(), records.end(), optics); it != std::sregex_iterator(); ++it) {
     focal.insert(std::stod((*it)[1]));
     baseline.insert(std::stod((*it)[2]));
+    widest = std::max(widest, std::stod((*it)[1]) * std::stod((*it)[2]));
     EXPECT_GE(std::stod((*it)[2]), 0.06);
     EXPECT_LE(std::stod((*it)[2]), 1.5);
   }
+  EXPECT_GT(widest, 1024 / (1 / 0.5 - 1 / 5.0)) << "no pair's workspace spans more disparities than are searched";
   EXPECT_EQ(focal.size(), 3U);
   EXPECT_EQ(baseline.size(), 3U);
 }

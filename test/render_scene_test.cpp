@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -146,6 +147,27 @@ TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
     EXPECT_NE(readText(log).find(c.named), std::string::npos) << readText(log);
     EXPECT_FALSE(fs::exists(out)) << c.option;
   }
+  fs::remove(log);
+}
+
+// --focal-mm draws the lens of each sampled scene: the same seed through a long lens shows its objects larger.
+TEST(RenderScene, FocalLengthSetsTheSampledScenesLens) {
+  const fs::path out = fs::temp_directory_path() / ("render_scene_focal_" + std::to_string(::getpid()));
+  const fs::path log = out.string() + ".log";
+  std::map<std::string, int> labelled_pixels;
+  for (const std::string lens : {"4,4", "12,12"}) {
+    ASSERT_EQ(underwater_stereo::runTool(std::string(UWS_RENDER_SCENE) + " --random 1 --seed 1181 --size 320x200 --focal-mm " +
+                                             lens + " --out " + (out / lens).string(),
+                                         log),
+              0)
+        << readText(log);
+    const cv::Mat mask = cv::imread((out / lens / "masks" / "001181.png").string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(mask.empty()) << lens;
+    labelled_pixels[lens] = cv::countNonZero(mask);
+  }
+  EXPECT_GT(labelled_pixels["12,12"], 2 * labelled_pixels["4,4"]);
+  EXPECT_GT(labelled_pixels["4,4"], 0);
+  fs::remove_all(out);
   fs::remove(log);
 }
 

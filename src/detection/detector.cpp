@@ -366,9 +366,10 @@ std::string Detector::workspaceNote() const {
   if (!matcher_ || matcher_->nearestDepthM() <= config_.stereo.min_depth_m) return "";
   const StereoCalibration& c = matcher_->calibration();
   std::ostringstream note;
-  note << std::setprecision(3) << "objects nearer than " << matcher_->nearestDepthM() << " m are not ranged (stereo.min_depth_m "
-       << config_.stereo.min_depth_m << "): with focal length x baseline " << c.focalPx() * c.baselineM()
-       << " px m the workspace spans more disparities than block matching searches (" << kMaxSgbmDisparities << ")";
+  note << std::fixed << std::setprecision(3) << "objects nearer than " << matcher_->nearestDepthM()
+       << " m are not ranged (stereo.min_depth_m " << config_.stereo.min_depth_m << "): with focal length x baseline "
+       << std::setprecision(0) << c.focalPx() * c.baselineM() << " px m the workspace spans more disparities than block "
+       << "matching searches (" << kMaxSgbmDisparities << ")";
   return note.str();
 }
 

@@ -52,22 +52,25 @@ constexpr int kDisparityStep = 16;
 /// `n` disparities rounded up to whole steps.
 int roundUpToDisparityStep(int n) { return ((n + kDisparityStep - 1) / kDisparityStep) * kDisparityStep; }
 
-/// The share of the mask's matched pixels whose disparity (CV_16SC1, 1/16 px, from 0 to num_disparities - 1) lies
-/// within a pixel of either end of the searched window; 0 when none matched.
+/// The share of the mask's matched pixels (those matched into the right band's padding too) whose disparity (CV_16SC1,
+/// 1/16 px, from 0 to num_disparities - 1) lies under one pixel from the window's first disparity or within one of
+/// its last, whether or not that end is the workspace's own; 0 when none matched. (Session 47's review proposed
+/// counting neither the padding nor the workspace's ends, and both ends alike: 2 validation objects worse, none
+/// better, docs/accuracy.md.)
 double windowEdgeShare(const cv::Mat& mask_band, const cv::Mat& disparity16, int num_disparities) {
   constexpr int kOnePixel = cv::StereoMatcher::DISP_SCALE;
   const int last = (num_disparities - 1) * kOnePixel;
-  int matched = 0, at_edge = 0;
+  int matched = 0, at_end = 0;
   for (int v = 0; v < mask_band.rows; ++v) {
     const auto* m = mask_band.ptr<std::uint8_t>(v);
     const auto* d = disparity16.ptr<short>(v);
     for (int u = 0; u < mask_band.cols; ++u) {
       if (!m[u] || d[u] < 0) continue;
       ++matched;
-      at_edge += d[u] < kOnePixel || d[u] >= last - kOnePixel;
+      at_end += d[u] < kOnePixel || d[u] >= last - kOnePixel;
     }
   }
-  return matched > 0 ? static_cast<double>(at_edge) / matched : 0.0;
+  return matched > 0 ? static_cast<double>(at_end) / matched : 0.0;
 }
 
 cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
@@ -296,9 +299,11 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   cv::Mat disparity16 = blockMatch(left_band, right_band, band.num_disparities);
   // A window whose matches pile up at its ends missed the object's disparity (a wrong silhouette or half-size
   // median): the whole workspace is searched instead.
-  if (!coversWorkspace(band) && windowEdgeShare(mask_band, disparity16, band.num_disparities) > kMaxWindowEdgeShare) {
+  if (windowEdgeShare(mask_band, disparity16, band.num_disparities) > kMaxWindowEdgeShare) {
     const MatchBand whole = matchBand(disparityWindow(std::numeric_limits<double>::quiet_NaN(), box), box);
-    if (!nothingToMatch(whole)) {
+    const bool wider = whole.min_disparity < band.min_disparity ||
+                       whole.min_disparity + whole.num_disparities > band.min_disparity + band.num_disparities;
+    if (wider && !nothingToMatch(whole)) {
       band = whole;
       rectifyBands(band);
       out.mask_pixels = cv::countNonZero(mask_band);
@@ -365,8 +370,10 @@ RoiStereoMatcher::DisparityWindow RoiStereoMatcher::disparityWindow(double silho
   if (!std::isfinite(silhouette_disparity)) return {d_lo, roundUpToDisparityStep(d_hi - d_lo)};
   const double f = calibration_.focalPx();
   const double relief = silhouette_disparity * kVisibleDepthShare * std::max(box.width, box.height) / f;
+  // (never more than block matching searches: a near, large object seen by a long baseline could ask for more)
   return {std::max(d_lo, static_cast<int>(std::floor(silhouette_disparity - kReliefBehind * relief)) - kDisparitySlack),
-          roundUpToDisparityStep(static_cast<int>(std::ceil(kReliefSpan * relief)) + 2 * kDisparitySlack)};
+          std::min(kMaxSgbmDisparities,
+                   roundUpToDisparityStep(static_cast<int>(std::ceil(kReliefSpan * relief)) + 2 * kDisparitySlack))};
 }
 
 RoiStereoMatcher::MatchBand RoiStereoMatcher::matchBand(const DisparityWindow& window, const cv::Rect& box) const {
@@ -424,11 +431,6 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
   }
 }
 
-bool RoiStereoMatcher::coversWorkspace(const MatchBand& band) const {
-  const auto [d_lo, d_hi] = workspaceDisparities();
-  return band.min_disparity <= d_lo && band.min_disparity + band.num_disparities >= d_hi;
-}
-
 bool RoiStereoMatcher::inWorkspace(double disparity) const {
   const double fb = calibration_.focalPx() * calibration_.baselineM();
   return disparity >= fb / config_.max_depth_m && disparity <= fb / nearestDepthM();
@@ -461,7 +463,7 @@ std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {
   const int far = static_cast<int>(std::floor(fb / config_.max_depth_m));
   // A long baseline or lens spreads the workspace over more disparities than block matching searches: its near
   // end is then left out (nearestDepthM()), not the calibration refused.
-  return {far, std::min(static_cast<int>(std::ceil(fb / config_.min_depth_m)), far + kMaxSgbmDisparities)};
+  return {far, std::min(static_cast<int>(std::ceil(fb / config_.min_depth_m)), far + kMaxSgbmDisparities - 1)};
 }
 
 double RoiStereoMatcher::nearestDepthM() const {

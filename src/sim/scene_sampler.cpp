@@ -8,6 +8,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "underwater_stereo/common/stereo_calibration.h"
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/stereo_rig.h"
@@ -186,7 +187,7 @@ std::vector<std::string> SceneSamplerConfig::validate() const {
   ordered("water_type", water_type.first, water_type.second, 0, 2);
   ordered("target_luma", target_luma.first, target_luma.second, 1, 254);
   ordered("focal_length_mm", focal_length_mm.first, focal_length_mm.second, 1, 100);
-  ordered("baseline_m", baseline_m.first, baseline_m.second, 0.01, 2);
+  ordered("baseline_m", baseline_m.first, baseline_m.second, kMinBaselineM, kMaxBaselineM);
   ordered("occluder_probability", occluder_probability, occluder_probability, 0, 1);
   ordered("border_probability", border_probability, border_probability, 0, 1);
   if (designated.empty()) p.push_back("designated: no colour family");

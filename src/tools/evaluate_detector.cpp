@@ -225,14 +225,11 @@ tools::PairRecord runPair(const sim::SceneSamplerConfig& sampler, const sim::Ren
                           DetectionResult* result_out = nullptr) {
   const auto started = std::chrono::steady_clock::now();
   const sim::SampledScene sampled = sim::sampleScene(seed, sampler);
-  // Scenes of their own optics get their own head, and a detector calibrated for it.
-  std::optional<sim::Renderer> own_head;
+  // A scene of its own optics gets its own head, and a detector calibrated for it.
+  const sim::Renderer scene_head = tools::SamplerOptions::headFor(sampler, head, sampled.scene);
   std::optional<Detector> own_detector;
-  if (sampler.variesOptics()) {
-    own_head.emplace(sampled.scene);
-    own_detector.emplace(detector.config(), own_head->calibration());
-  }
-  const sim::RenderedPair pair = own_head ? own_head->render(0.0, 0) : head.withScene(sampled.scene).render(0.0, 0);
+  if (sampler.variesOptics()) own_detector.emplace(detector.config(), scene_head.calibration());
+  const sim::RenderedPair pair = scene_head.render(0.0, 0);
   const double render_ms = msSince(started);
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
   const Detector& used = own_detector ? *own_detector : detector;
@@ -446,13 +443,13 @@ int main(int argc, char** argv) {
     // refuses is named now, not after the table's header.
     scene_files = tools::readSceneFiles(scenes, config_loaded ? &config : nullptr, frames, rate, problems);
     if (scenes.empty() && config_loaded) {
-      // Each sampled scene is rendered once, at time 0; of varied optics, the longest lens and baseline are tried
-      // (the most disparities to search).
-      sim::Scene widest = sim::sampleScene(random.seed, sampler).scene;
-      widest.rig.focal_length_mm = sampler.focal_length_mm.second;
-      widest.rig.baseline_m = sampler.baseline_m.second;
-      const std::string problem =
-          tools::sceneProblem(config, widest, "the sampled scenes (--size, --focal-mm, --baseline-m)", 1, 1.0);
+      // Each sampled scene is rendered once, at time 0; of varied optics, a scene sampled with the longest lens and
+      // baseline is tried (the calibration's limits; its objects placed for that rig).
+      sim::SceneSamplerConfig longest = sampler;
+      longest.focal_length_mm.first = longest.focal_length_mm.second;
+      longest.baseline_m.first = longest.baseline_m.second;
+      const std::string problem = tools::sceneProblem(config, sim::sampleScene(random.seed, longest).scene,
+                                                      "the sampled scenes (--size, --focal-mm, --baseline-m)", 1, 1.0);
       if (!problem.empty()) problems.push_back(problem);
     }
     if (!problems.empty()) {

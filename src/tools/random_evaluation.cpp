@@ -102,8 +102,9 @@ std::string binLabel(double value, const std::vector<double>& edges, int precisi
 const std::vector<double> kRangeEdges{0.5, 1, 2, 3, 4, 5};
 const std::vector<double> kTurbidityEdges{0, 0.25, 0.5, 0.75, 1};
 const std::vector<double> kLumaEdges{0, 40, 80, 120, 160, 200, 255};
-/// [px m] focal length x baseline: the disparity of an object 1 m away (the head's own optics: 218).
-const std::vector<double> kFocalBaselineEdges{0, 150, 250, 400, 600, 1000, 4000};
+/// [px m] focal length x baseline: the disparity of an object 1 m away (the head's own optics: 218; the sampler's
+/// limits, a 100 mm lens and a 2 m baseline, under 50 000).
+const std::vector<double> kFocalBaselineEdges{0, 150, 250, 400, 600, 1000, 50000};
 
 std::string waterName(double water_type) {
   return water_type < 0.5 ? "blue" : water_type < 1.5 ? "green" : "brown";

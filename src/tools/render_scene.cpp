@@ -52,8 +52,8 @@ const char* kUsage =
     "             Distractors (other colours) are background.\n"
     "  --luma     the mean luma (BT.601, 1-254) each sampled scene is exposed to, drawn from [LO, HI] (default\n"
     "             30,200: the sampler's range); e.g. 12,40 for dark water.\n"
-    "  --focal-mm, --baseline-m  each sampled scene's lens focal length (in air, 1-100) and baseline (0.01-2 m)\n"
-    "             drawn from [LO, HI] (default 8,8 and 0.12,0.12: the simulated head's); other optics.\n";
+    "  --focal-mm, --baseline-m  each sampled scene's lens focal length (in air) and baseline drawn from [LO, HI]\n"
+    "             instead of the head's 8 mm and 0.12 m (other optics).\n";
 
 struct Options {
   std::string scene, bag, png_dir, ns = "stereo", out_dir;
@@ -184,9 +184,7 @@ void writeTrainingData(const Options& opt) {
   for (int i = 0; i < opt.random; ++i) {
     const auto seed = static_cast<std::uint64_t>(opt.seed + i);
     const sim::SampledScene sampled = sim::sampleScene(seed, opt.sampler);
-    // A scene of its own optics needs a head of its own.
-    const sim::RenderedPair pair = opt.sampler.variesOptics() ? sim::Renderer(sampled.scene).render(0.0, 0)
-                                                              : head.withScene(sampled.scene).render(0.0, 0);
+    const sim::RenderedPair pair = tools::SamplerOptions::headFor(opt.sampler, head, sampled.scene).render(0.0, 0);
     const std::vector<std::size_t> labelled = sim::labelledObjects(pair.ground_truth, opt.sampler.designated);
     char id[32];
     std::snprintf(id, sizeof(id), "%06llu", static_cast<unsigned long long>(seed));

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tool_helpers.h"
+#include "underwater_stereo/sim/renderer.h"
 #include "underwater_stereo/sim/scene_sampler.h"
 
 namespace underwater_stereo {
@@ -42,7 +43,8 @@ struct SamplerOptions {
   }
 
   /// The first of `sampler`'s problems named as the option that set it ("--luma LO,HI: ..." for the target luma,
-  /// "--size WxH: ..." for the image size: only these options set the sampler); "" when none.
+  /// "--focal-mm LO,HI: ..." and "--baseline-m LO,HI: ..." for the optics, "--size WxH: ..." for the image size:
+  /// only these options set the sampler); "" when none.
   std::string problem(const sim::SceneSamplerConfig& sampler) const {
     const std::vector<std::string> problems = sampler.validate();
     if (problems.empty()) return "";
@@ -53,6 +55,12 @@ struct SamplerOptions {
                               : starts("baseline_m")      ? "--baseline-m " + baseline
                                                           : "--size " + size;
     return named + ": " + p;
+  }
+
+  /// The head that renders `scene` of `sampler`: `shared` (its pixel rays reused) when the sampler's optics are
+  /// fixed, else one of the scene's own rig.
+  static sim::Renderer headFor(const sim::SceneSamplerConfig& sampler, const sim::Renderer& shared, const sim::Scene& scene) {
+    return sampler.variesOptics() ? sim::Renderer(scene) : shared.withScene(scene);
   }
 
  private:

@@ -87,7 +87,7 @@ class RoiStereoMatcher {
   const StereoCalibration& calibration() const { return calibration_; }
 
   /// [m] The nearest depth matched: stereo.min_depth_m, or farther when the workspace would span more than
-  /// kMaxSgbmDisparities disparities with this calibration (focal length x baseline over 512 px m at 0.5-5 m):
+  /// kMaxSgbmDisparities disparities with this calibration (focal length x baseline over 569 px m at 0.5-5 m):
   /// its near end is then not searched.
   double nearestDepthM() const;
 
@@ -126,8 +126,6 @@ class RoiStereoMatcher {
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
   /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`).
   void reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const;
-  /// Whether `band` searches every disparity of the workspace.
-  bool coversWorkspace(const MatchBand& band) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
   bool inWorkspace(double disparity) const;
   /// Disparities [px] of the workspace's far and near ends (the near one at most kMaxSgbmDisparities beyond the far).
