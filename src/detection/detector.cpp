@@ -367,7 +367,8 @@ std::string Detector::workspaceNote() const {
   const StereoCalibration& c = matcher_->calibration();
   std::ostringstream note;
   note << std::fixed << std::setprecision(3) << "objects nearer than " << matcher_->nearestDepthM()
-       << " m are not ranged (stereo.min_depth_m " << config_.stereo.min_depth_m << "): with focal length x baseline "
+       << " m are not ranged (stereo.min_depth_m " << std::defaultfloat << config_.stereo.min_depth_m
+       << "): with focal length x baseline " << std::fixed
        << std::setprecision(0) << c.focalPx() * c.baselineM() << " px m the workspace spans more disparities than block "
        << "matching searches (" << kMaxSgbmDisparities << ")";
   return note.str();
