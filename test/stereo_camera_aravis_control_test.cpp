@@ -277,8 +277,10 @@ TEST(StereoCameraAravisPtp, CamerasWithoutPtpFallBackToTheClockMappingWithAWarni
   FakeCamera left("127.0.0.1", "FAKE-LEFT"), right("127.0.0.2", "FAKE-RIGHT");
   ASSERT_TRUE(left.running() && right.running()) << "the fake cameras did not start";
   ASSERT_TRUE(waitFor([&] { return rx.pairsSince(ros::Time(0)) >= 5; }, 40.0)) << "no pairs: PTP must not stop them";
-  EXPECT_TRUE(waitFor([&] { return !value(rx.diagnostic("left camera"), "PTP").empty(); }, 5.0));
+  // Each side's status once it says PTP: a fake camera that stalls under load is reopened meanwhile (ERROR "opened,
+  // but no frame"), which is not what this test is about.
   for (const char* side : {"left camera", "right camera"}) {
+    EXPECT_TRUE(waitFor([&] { return rx.diagnostic(side).message.find("PTP") != std::string::npos; }, 20.0)) << side;
     const auto d = rx.diagnostic(side);
     EXPECT_EQ(d.level, diagnostic_msgs::DiagnosticStatus::WARN) << side << ": " << d.message;
     EXPECT_NE(d.message.find("PTP"), std::string::npos) << d.message;
