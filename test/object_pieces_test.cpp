@@ -22,18 +22,22 @@ TEST(ObjectPieces, JoinsTouchingClustersOfOneColourOnly) {
   const std::vector<std::vector<Eigen::Vector3f>> clusters{patch(0, 1, 0.2f), patch(0.25f, 1, 0.2f), patch(0, 2, 0.2f),
                                                            patch(0.46f, 1, 0.2f), patch(-0.25f, 1, 0.2f)};
   const std::vector<int> colours{0, 0, 0, 1, 0};
-  EXPECT_EQ(piecesOfOneObject(colours, clusters, 0.06), (std::vector<std::vector<int>>{{0, 1, 4}}));
+  const auto one_colour = [&](int i, int j) { return colours[i] == colours[j]; };
+  EXPECT_EQ(piecesOfOneObject(one_colour, clusters, 0.06), (std::vector<std::vector<int>>{{0, 1, 4}}));
   // Narrower than the gaps: nothing joined.
-  EXPECT_TRUE(piecesOfOneObject(colours, clusters, 0.04).empty());
+  EXPECT_TRUE(piecesOfOneObject(one_colour, clusters, 0.04).empty());
   // Joined through a member: 4 touches 0, 0 touches 1.
-  EXPECT_EQ(piecesOfOneObject({0, 0, 0}, {clusters[4], clusters[1], clusters[0]}, 0.06),
+  const auto any = [](int, int) { return true; };
+  EXPECT_EQ(piecesOfOneObject(any, {clusters[4], clusters[1], clusters[0]}, 0.06),
             (std::vector<std::vector<int>>{{0, 1, 2}}));
+  // Green joins too where allowed: 3 touches 1.
+  EXPECT_EQ(piecesOfOneObject(any, clusters, 0.06), (std::vector<std::vector<int>>{{0, 1, 3, 4}}));
 }
 
 TEST(ObjectPieces, RefusesBadInput) {
-  EXPECT_THROW(piecesOfOneObject({0}, {}, 0.1), std::invalid_argument);
-  EXPECT_THROW(piecesOfOneObject({0}, {patch(0, 1, 0.1f)}, 0.0), std::invalid_argument);
-  EXPECT_TRUE(piecesOfOneObject({0, 0}, {{}, patch(0, 1, 0.1f)}, 0.1).empty());
+  const auto any = [](int, int) { return true; };
+  EXPECT_THROW(piecesOfOneObject(any, {patch(0, 1, 0.1f)}, 0.0), std::invalid_argument);
+  EXPECT_TRUE(piecesOfOneObject(any, {{}, patch(0, 1, 0.1f)}, 0.1).empty());
   EXPECT_THROW(joinedCandidate({}, cv::Size(100, 100)), std::invalid_argument);
   Candidate a, b;
   a.colour_index = 0;

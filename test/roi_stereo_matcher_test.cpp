@@ -146,9 +146,11 @@ TEST(RoiStereoMatcher, AWorkspaceWiderThanBlockMatchingSearchesLosesItsNearEndNo
   const double fb = pair.calibration.focalPx() * pair.calibration.baselineM();
   ASSERT_GT(workspaceDisparities(pair.calibration), kMaxSgbmDisparities);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
-  // (block matching searches disparities far .. far + 1023)
-  EXPECT_NEAR(matcher.nearestDepthM(), fb / (std::floor(fb / StereoMatchConfig{}.max_depth_m) + kMaxSgbmDisparities - 1), 1e-9);
-  EXPECT_GT(matcher.nearestDepthM(), StereoMatchConfig{}.min_depth_m);
+  // (block matching searches disparities far .. far + 1023; the tracker asks the same of the calibration alone)
+  const double nearest = nearestMatchedDepthM(pair.calibration, StereoMatchConfig{});
+  EXPECT_NEAR(nearest, fb / (std::floor(fb / StereoMatchConfig{}.max_depth_m) + kMaxSgbmDisparities - 1), 1e-9);
+  EXPECT_EQ(matcher.nearestDepthM(), nearest);
+  EXPECT_GT(nearest, StereoMatchConfig{}.min_depth_m);
   const cv::Rect roi(400, 180, 60, 50);
   const RoiPoints pts = matcher.match(pair.left, pair.right, roi, cv::Mat(roi.size(), CV_8UC1, cv::Scalar(255)));
   EXPECT_LE(pts.searched_disparities, kMaxSgbmDisparities);

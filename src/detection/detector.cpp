@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iomanip>
+#include <map>
 #include <numeric>
 #include <optional>
 #include <sstream>
@@ -185,6 +186,12 @@ void addObjectStages(StageTimings& into, const StageTimings& t) {
 /// 63.6 % throughout; the band cut out of a near object leaves a gap wider than one eps.
 constexpr double kPieceGapInEps = 4.0;
 
+/// Detections in neighbouring colours (their hue ranges touch: red and orange, yellow and green) are pieces of
+/// one object, as those of one colour are, when their boxes also overlap this much of the smaller one (a box's
+/// lit top face read yellow and its sides orange). The share colour_model.max_overlap's default takes for one
+/// region, not tuned.
+constexpr double kTwoColourPieceOverlap = 0.3;
+
 /// Pieces of one object measured again as the one region they make together. The joined
 /// detection takes the first piece's place and the others are reported as rejected, naming it; when the joined
 /// region cannot be measured the pieces stay as they were.
@@ -201,16 +208,27 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     colours.push_back(reported != nullptr ? static_cast<int>(reported - classes.data()) : candidates[k].colour_index);
     clusters.push_back(found[k]->points);
   }
-  for (const std::vector<int>& group : piecesOfOneObject(colours, clusters, gap_m)) {
-    std::vector<Candidate> in_colour;  // the pieces' regions, each in the colour its detection is reported in
+  const auto may_join = [&](int i, int j) {
+    if (colours[i] == colours[j]) return true;
+    return neighbouringHues(classes[colours[i]], classes[colours[j]]) &&
+           overlapOfSmaller(found[index[i]]->roi, found[index[j]]->roi) >= kTwoColourPieceOverlap;
+  };
+  for (const std::vector<int>& group : piecesOfOneObject(may_join, clusters, gap_m)) {
+    // Pieces in two colours: the joined region is reported in the colour most of its pixels were named.
+    std::map<int, double> area_in;
+    for (int g : group) area_in[colours[g]] += candidates[index[g]].area_px;
+    const int colour = std::max_element(area_in.begin(), area_in.end(), [](const auto& a, const auto& b) {
+                         return a.second < b.second;
+                       })->first;
+    std::vector<Candidate> in_colour;  // the pieces' regions, each in the colour the joined detection is reported in
     for (int g : group) {
       in_colour.push_back(candidates[index[g]]);
       Candidate& piece = in_colour.back();
-      // A piece the check renamed: its colour_fraction is the colour model's confidence in another colour, so the
-      // joined region takes its description (confidence, learned features) from a piece the model named this
-      // colour when there is one.
-      if (piece.colour_index != colours[g]) piece.colour_fraction = 0;
-      piece.colour_index = colours[g];
+      // A piece the check renamed or one of another colour: its colour_fraction is the colour model's confidence
+      // in another colour, so the joined region takes its description (confidence, learned features) from a
+      // piece the model named this colour when there is one.
+      if (piece.colour_index != colour) piece.colour_fraction = 0;
+      piece.colour_index = colour;
     }
     std::vector<const Candidate*> pieces;
     for (const Candidate& c : in_colour) pieces.push_back(&c);

@@ -73,9 +73,8 @@ int root(std::vector<int>& parent, int i) {
 
 }  // namespace
 
-std::vector<std::vector<int>> piecesOfOneObject(const std::vector<int>& colours,
+std::vector<std::vector<int>> piecesOfOneObject(const std::function<bool(int, int)>& may_join,
                                                 const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m) {
-  if (colours.size() != clusters.size()) throw std::invalid_argument("piecesOfOneObject: one colour per cluster needed");
   if (!(gap_m > 0)) throw std::invalid_argument("piecesOfOneObject: gap_m must be > 0");
   const int n = static_cast<int>(clusters.size());
   std::vector<Box> boxes;
@@ -84,7 +83,7 @@ std::vector<std::vector<int>> piecesOfOneObject(const std::vector<int>& colours,
   std::iota(parent.begin(), parent.end(), 0);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      if (colours[i] != colours[j] || root(parent, i) == root(parent, j)) continue;
+      if (root(parent, i) == root(parent, j) || !may_join(i, j)) continue;
       if (touching(clusters[i], boxes[i], clusters[j], boxes[j], static_cast<float>(gap_m))) {
         parent[root(parent, j)] = root(parent, i);
       }

@@ -16,6 +16,15 @@
 namespace underwater_stereo {
 namespace {
 
+/// Disparities [px] of the workspace's far and near ends for `calibration`.
+std::pair<int, int> disparitiesOf(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
+  const double fb = calibration.focalPx() * calibration.baselineM();
+  const int far = static_cast<int>(std::floor(fb / workspace.max_depth_m));
+  // A long baseline or lens spreads the workspace over more disparities than block matching searches: its near
+  // end is then left out (nearestMatchedDepthM), not the calibration refused.
+  return {far, std::min(static_cast<int>(std::ceil(fb / workspace.min_depth_m)), far + kMaxSgbmDisparities - 1)};
+}
+
 /// Column profiles of the left and right silhouettes must overlap this much (intersection over union).
 constexpr double kMinSilhouetteOverlap = 0.8;
 /// Disparities block matching searches beyond the object's expected relief on either side (the silhouette's
@@ -458,17 +467,9 @@ StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& 
   return compareStereoOrder(left, right, roi, far_shift, near_shift, 0.5 * (raw[0].y + raw[1].y) - centre.y);
 }
 
-std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const {
-  const double fb = calibration_.focalPx() * calibration_.baselineM();
-  const int far = static_cast<int>(std::floor(fb / config_.max_depth_m));
-  // A long baseline or lens spreads the workspace over more disparities than block matching searches: its near
-  // end is then left out (nearestDepthM()), not the calibration refused.
-  return {far, std::min(static_cast<int>(std::ceil(fb / config_.min_depth_m)), far + kMaxSgbmDisparities - 1)};
-}
+std::pair<int, int> RoiStereoMatcher::workspaceDisparities() const { return disparitiesOf(calibration_, config_); }
 
-double RoiStereoMatcher::nearestDepthM() const {
-  return std::max(config_.min_depth_m, calibration_.focalPx() * calibration_.baselineM() / workspaceDisparities().second);
-}
+double RoiStereoMatcher::nearestDepthM() const { return nearestMatchedDepthM(calibration_, config_); }
 
 cv::Rect RoiStereoMatcher::silhouetteBox(const cv::Rect& box) const {
   return cv::Rect(box.x - 2, box.y - 2, box.width + 4, box.height + 4) &
@@ -523,6 +524,11 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   const int x1 = std::min(left_rect.br().x - d_lo, left_rect.br().x - shift + kSilhouetteSlackPx + 1);
   profiles(1, x0, x1, left, right);
   return centroidShift(left, right, shift);
+}
+
+double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
+  return std::max(workspace.min_depth_m,
+                  calibration.focalPx() * calibration.baselineM() / disparitiesOf(calibration, workspace).second);
 }
 
 }  // namespace underwater_stereo

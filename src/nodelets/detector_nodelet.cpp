@@ -334,7 +334,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
   void publish(Processed& done) {
     const std_msgs::Header& header = done.pair.left->header;
-    objects_pub_.publish(tracking_->track(done.result, header, done.input.calibration.left));  // drops rejected objects
+    objects_pub_.publish(tracking_->track(done.result, header, done.input.calibration));  // drops rejected objects
     const DetectionResult& result = done.result;
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "underwater_stereo/detection/roi_stereo_matcher.h"
 #include "underwater_stereo/ros_glue/detection_conversions.h"
 #include "underwater_stereo/ros_glue/param_reader.h"
 #include "underwater_stereo/ros_glue/tracking_conversions.h"
@@ -16,8 +17,9 @@ namespace {
 
 constexpr double kProblemHoldS = 5.0;  ///< [s] of stamps a tracking problem keeps the diagnostic at WARN
 
-bool sameView(const CameraCalibration& a, const CameraCalibration& b) {
-  return a.width == b.width && a.height == b.height && a.K == b.K;
+bool sameView(const StereoCalibration& a, const StereoCalibration& b) {
+  return a.left.width == b.left.width && a.left.height == b.left.height && a.left.K == b.left.K &&
+         a.baselineM() == b.baselineM();
 }
 
 }  // namespace
@@ -70,7 +72,7 @@ std::optional<Eigen::Isometry3d> ObjectTracking::cameraPose(const std_msgs::Head
 }
 
 DetectedObjectArray ObjectTracking::track(DetectionResult& result, const std_msgs::Header& header,
-                                          const CameraCalibration& left) {
+                                          const StereoCalibration& calibration) {
   std::vector<Observation> observations;
   std::vector<Detection> kept;
   for (Detection& d : result.objects) {
@@ -115,10 +117,13 @@ DetectedObjectArray ObjectTracking::track(DetectionResult& result, const std_msg
   }
   if (tracked) {
     camera_pose_ = *pose;
-    if (!view_ || !sameView(left, view_calibration_)) {
+    if (!view_ || !sameView(calibration, view_calibration_)) {
       try {
-        view_.emplace(left, workspace_.min_depth_m, workspace_.max_depth_m, config_.view_margin_px);
-        view_calibration_ = left;
+        // From the nearest depth stereo matches (a long baseline leaves the workspace's near end out): a track
+        // nearer than that is not expected to be seen.
+        view_.emplace(calibration.left, nearestMatchedDepthM(calibration, workspace_), workspace_.max_depth_m,
+                      config_.view_margin_px);
+        view_calibration_ = calibration;
       } catch (const std::invalid_argument& e) {
         view_.reset();  // every track counts as in view
         last_problem_ = e.what();

@@ -17,44 +17,38 @@ namespace tools {
 struct SamplerOptions {
   std::string size, luma, focal, baseline;  ///< as given ("" when not given)
 
-  static bool takes(const std::string& option) {
-    return option == "--size" || option == "--luma" || option == "--focal-mm" || option == "--baseline-m";
-  }
+  static bool takes(const std::string& option) { return find(option) != nullptr; }
 
   /// Reads `value` of `option` (one that takes() accepts) into `sampler`; "" or why it is not of the option's form.
   std::string read(const std::string& option, const std::string& value, sim::SceneSamplerConfig& sampler) {
-    if (option == "--size") {
-      size = value;
-      return parseImageSize(value, sampler.width, sampler.height) ? "" : "--size: '" + value + "' is not WIDTHxHEIGHT";
-    }
-    auto [given, range] = interval(option, sampler);
-    *given = value;
-    return parseInterval(value, *range) ? "" : option + ": '" + value + "' is not LO,HI";
+    const Option& o = *find(option);
+    this->*o.kept = value;
+    const bool read = o.range == nullptr ? parseImageSize(value, sampler.width, sampler.height)
+                                         : parseInterval(value, sampler.*o.range);
+    return read ? "" : option + ": '" + value + "' is not " + o.form;
   }
 
   /// Every option given, as a command line would repeat it (" --size 960x600 --luma 12,40"; "" when none).
   std::string given() const {
     std::string out;
-    for (const auto& [option, value] : {std::pair<const char*, const std::string*>{"--size", &size}, {"--luma", &luma},
-                                        {"--focal-mm", &focal}, {"--baseline-m", &baseline}}) {
-      if (!value->empty()) out += std::string(" ") + option + " " + *value;
+    for (const Option& o : options()) {
+      if (!(this->*o.kept).empty()) out += std::string(" ") + o.name + " " + this->*o.kept;
     }
     return out;
   }
 
-  /// The first of `sampler`'s problems named as the option that set it ("--luma LO,HI: ..." for the target luma,
-  /// "--focal-mm LO,HI: ..." and "--baseline-m LO,HI: ..." for the optics, "--size WxH: ..." for the image size:
-  /// only these options set the sampler); "" when none.
+  /// The first of `sampler`'s problems named as the option that set it ("--luma 0,40: target_luma = ..."; the
+  /// image size's for any problem no other option's sampler field begins: only these options set the sampler);
+  /// "" when none.
   std::string problem(const sim::SceneSamplerConfig& sampler) const {
     const std::vector<std::string> problems = sampler.validate();
     if (problems.empty()) return "";
     const std::string& p = problems.front();
-    auto starts = [&p](const char* field) { return p.rfind(field, 0) == 0; };
-    const std::string named = starts("target_luma")       ? "--luma " + luma
-                              : starts("focal_length_mm") ? "--focal-mm " + focal
-                              : starts("baseline_m")      ? "--baseline-m " + baseline
-                                                          : "--size " + size;
-    return named + ": " + p;
+    const Option* by = &options().front();  // --size
+    for (const Option& o : options()) {
+      if (o.field != nullptr && p.rfind(o.field, 0) == 0) by = &o;
+    }
+    return std::string(by->name) + " " + this->*by->kept + ": " + p;
   }
 
   /// The head that renders `scene` of `sampler`: `shared` (its pixel rays reused) when the sampler's optics are
@@ -64,11 +58,30 @@ struct SamplerOptions {
   }
 
  private:
-  /// Where an interval option is kept as given, and the sampler's range it sets.
-  std::pair<std::string*, std::pair<double, double>*> interval(const std::string& option, sim::SceneSamplerConfig& sampler) {
-    if (option == "--luma") return {&luma, &sampler.target_luma};
-    if (option == "--focal-mm") return {&focal, &sampler.focal_length_mm};
-    return {&baseline, &sampler.baseline_m};
+  /// One option: its name and form, where its value is kept as given, the sampler's range it sets and the field
+  /// its problems begin with (nullptr for the image size, which sets width and height).
+  struct Option {
+    const char* name;
+    const char* form;
+    std::string SamplerOptions::*kept;
+    std::pair<double, double> sim::SceneSamplerConfig::*range;
+    const char* field;
+  };
+
+  static const std::vector<Option>& options() {
+    static const std::vector<Option> table{
+        {"--size", "WIDTHxHEIGHT", &SamplerOptions::size, nullptr, nullptr},
+        {"--luma", "LO,HI", &SamplerOptions::luma, &sim::SceneSamplerConfig::target_luma, "target_luma"},
+        {"--focal-mm", "LO,HI", &SamplerOptions::focal, &sim::SceneSamplerConfig::focal_length_mm, "focal_length_mm"},
+        {"--baseline-m", "LO,HI", &SamplerOptions::baseline, &sim::SceneSamplerConfig::baseline_m, "baseline_m"}};
+    return table;
+  }
+
+  static const Option* find(const std::string& option) {
+    for (const Option& o : options()) {
+      if (option == o.name) return &o;
+    }
+    return nullptr;
   }
 };
 

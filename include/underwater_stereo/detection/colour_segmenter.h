@@ -36,6 +36,9 @@ struct ColourClass {
   bool admitsHue(int h) const { return hue_min <= hue_max ? (h >= hue_min && h <= hue_max) : (h >= hue_min || h <= hue_max); }
 };
 
+/// Whether the hue ranges of `a` and `b` overlap or touch (red [165, 6] and orange [7, 14]) on the hue circle.
+bool neighbouringHues(const ColourClass& a, const ColourClass& b);
+
 struct ColourMaskConfig {
   std::vector<ColourClass> classes;  ///< the designated colours, at least one
   /// Grey-world white balance before HSV: scales B, G, R so their means are equal, undoing the water's

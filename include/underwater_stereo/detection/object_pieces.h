@@ -6,17 +6,18 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include <functional>
 #include <vector>
 
 #include "underwater_stereo/detection/candidate_finder.h"
 
 namespace underwater_stereo {
 
-/// Groups of indices into `clusters` (one entry per detection: its colour class and its 3D cluster) whose
-/// clusters come within `gap_m` of each other, directly or through other members, among detections of one
-/// colour: the pieces DBSCAN would have joined had they been matched as one region (`gap_m` its eps). Only
-/// groups of two or more are returned, each in increasing index order.
-std::vector<std::vector<int>> piecesOfOneObject(const std::vector<int>& colours,
+/// Groups of indices into `clusters` (one per detection: its 3D cluster) whose clusters come within `gap_m` of
+/// each other, directly or through other members, among detections `may_join(i, j)` allows to be pieces of one
+/// object (i < j; e.g. those of one colour): the pieces DBSCAN would have joined had they been matched as one
+/// region (`gap_m` its eps). Only groups of two or more are returned, each in increasing index order.
+std::vector<std::vector<int>> piecesOfOneObject(const std::function<bool(int, int)>& may_join,
                                                 const std::vector<std::vector<Eigen::Vector3f>>& clusters, double gap_m);
 
 /// The region `pieces` make together (all of one colour, full-resolution masks, inside `frame`): their masks

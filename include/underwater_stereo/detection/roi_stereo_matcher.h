@@ -86,9 +86,7 @@ class RoiStereoMatcher {
 
   const StereoCalibration& calibration() const { return calibration_; }
 
-  /// [m] The nearest depth matched: stereo.min_depth_m, or farther when the workspace would span more than
-  /// kMaxSgbmDisparities disparities with this calibration (focal length x baseline over 569 px m at 0.5-5 m):
-  /// its near end is then not searched.
+  /// [m] The nearest depth matched (nearestMatchedDepthM of this calibration and configuration).
   double nearestDepthM() const;
 
   /// How the left image's patch over `roi` (raw pixels) matches the right image at the workspace's disparities of
@@ -141,5 +139,10 @@ class RoiStereoMatcher {
   cv::Mat left_map_xy_, left_map_fraction_, right_map_xy_, right_map_fraction_;
   cv::Matx33d left_r_transposed_;                                 ///< rectified -> raw left frame
 };
+
+/// [m] The nearest depth `calibration` matches with `workspace`: workspace.min_depth_m, or farther when the
+/// workspace would span more than kMaxSgbmDisparities disparities (focal length x baseline over 569 px m at
+/// 0.5-5 m): its near end is then not searched.
+double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace);
 
 }  // namespace underwater_stereo

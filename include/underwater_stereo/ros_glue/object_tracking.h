@@ -40,11 +40,11 @@ class ObjectTracking {
   /// Advertises ~landmarks, ~landmark_markers and the services ~reset_tracks, ~get_landmark.
   void start(ros::NodeHandle& pnh);
 
-  /// One processed pair (`header`: its stamp and the left optical frame; `left`: the left camera's calibration):
+  /// One processed pair (`header`: its stamp and the left optical frame; `calibration`: the head's):
   /// labels the objects with targets, removes those the configuration rejects, tracks the rest. Returns the
   /// ~objects message (stereo frame) with the track fields; publishes the landmarks, their markers and TF.
   /// Called for one pair at a time, in stamp order. Never throws for bad input (reported in diagnose()).
-  DetectedObjectArray track(DetectionResult& result, const std_msgs::Header& header, const CameraCalibration& left);
+  DetectedObjectArray track(DetectionResult& result, const std_msgs::Header& header, const StereoCalibration& calibration);
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
@@ -69,7 +69,7 @@ class ObjectTracking {
   std::mutex mutex_;  ///< guards everything below (pairs arrive from workers, service calls from the callback queue)
   std::unique_ptr<Tracker> tracker_;
   std::optional<CameraView> view_;
-  CameraCalibration view_calibration_;
+  StereoCalibration view_calibration_;
   std::string tracking_frame_;   ///< the frame tracks live in: fixed_frame_, or the stereo frame while it has no TF
   bool fixed_frame_seen_ = false;
   Eigen::Isometry3d camera_pose_ = Eigen::Isometry3d::Identity();
