@@ -87,6 +87,9 @@ TEST(CandidateFinder, HueNeighboursTouchThroughZero) {
   EXPECT_FALSE(hueNeighbours(kOrange, kGreen));
   EXPECT_TRUE(hueNeighbours(ColourClass{"magenta", 150, 164}, kRed));
   EXPECT_FALSE(hueNeighbours(ColourClass{"blue", 100, 130}, kRed));
+  EXPECT_TRUE(hueNeighbours(ColourClass{"wide", 10, 40}, ColourClass{"inside", 20, 30}));  // one inside the other
+  EXPECT_TRUE(hueNeighbours(ColourClass{"inside", 20, 30}, ColourClass{"wide", 10, 40}));
+  EXPECT_FALSE(hueNeighbours(kRed, kYellow));  // orange between them
 }
 
 TEST(CandidateFinder, ShadedBallAcrossTwoNeighbourClassesIsOneObjectOfItsMajorityColour) {

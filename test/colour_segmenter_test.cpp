@@ -43,15 +43,11 @@ TEST(ColourSegmenter, RedHueWrapsThroughZero) {
   EXPECT_NEAR(cv::countNonZero(masks[1]), M_PI * 30 * 30, 0.05 * M_PI * 30 * 30);
 }
 
-TEST(ColourSegmenter, NeighbouringHuesTouchOrOverlapOnTheHueCircle) {
-  const auto cls = [](int lo, int hi) { return ColourClass{"c", lo, hi}; };
-  EXPECT_TRUE(neighbouringHues(cls(165, 6), cls(7, 14)));    // red and orange, through 0
-  EXPECT_TRUE(neighbouringHues(cls(7, 14), cls(165, 6)));
-  EXPECT_TRUE(neighbouringHues(cls(15, 25), cls(26, 60)));   // yellow and green
-  EXPECT_TRUE(neighbouringHues(cls(170, 179), cls(0, 5)));   // across the circle's seam
-  EXPECT_TRUE(neighbouringHues(cls(10, 30), cls(20, 40)));   // overlapping
-  EXPECT_FALSE(neighbouringHues(cls(165, 6), cls(15, 25)));  // red and yellow (orange between them)
-  EXPECT_FALSE(neighbouringHues(cls(165, 6), cls(26, 60)));  // red and green
+TEST(ColourSegmenter, AnyHueIsTheWholeCircle) {
+  EXPECT_TRUE(ColourClass{"learnt only"}.anyHue());  // no hue given
+  EXPECT_TRUE((ColourClass{"c", 90, 89}.anyHue()));  // wrapping all the way round
+  EXPECT_FALSE((ColourClass{"red", 165, 6}.anyHue()));
+  EXPECT_FALSE((ColourClass{"c", 0, 178}.anyHue()));
 }
 
 // Each class's mask is exactly OpenCV's inRange of its H, S and V ranges (both halves of a wrapping hue), for

@@ -17,7 +17,7 @@ std::vector<Eigen::Vector3f> patch(float x0, float z, float side) {
   return p;
 }
 
-TEST(ObjectPieces, JoinsTouchingClustersOfOneColourOnly) {
+TEST(ObjectPieces, JoinsTouchingClustersThatMayJoinOnly) {
   // Pieces 0 and 1 of one red object 5 cm apart; 2 red 1 m further; 3 green touching 1; 4 red touching 0.
   const std::vector<std::vector<Eigen::Vector3f>> clusters{patch(0, 1, 0.2f), patch(0.25f, 1, 0.2f), patch(0, 2, 0.2f),
                                                            patch(0.46f, 1, 0.2f), patch(-0.25f, 1, 0.2f)};

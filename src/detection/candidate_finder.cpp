@@ -208,12 +208,16 @@ OutlineKind classifyOutline(const std::vector<cv::Point>& contour) {
 }
 
 bool hueNeighbours(const ColourClass& a, const ColourClass& b) {
-  // Circular gap between two hue ranges (each possibly wrapping through 0), in OpenCV hue units.
+  // Circular gap between two hue ranges (each possibly wrapping through 0), in OpenCV hue units: one range admits
+  // an end of the other, widened by the gap (both ways round: a range may lie inside the other).
   constexpr int kMaxGap = 2;
-  for (int d = 0; d <= kMaxGap; ++d) {
-    if (b.admitsHue((a.hue_max + d) % 180) || b.admitsHue((a.hue_min - d + 180) % 180)) return true;
-  }
-  return false;
+  const auto admitsAnEnd = [](const ColourClass& x, const ColourClass& y) {
+    for (int d = 0; d <= kMaxGap; ++d) {
+      if (x.admitsHue((y.hue_max + d) % 180) || x.admitsHue((y.hue_min - d + 180) % 180)) return true;
+    }
+    return false;
+  };
+  return admitsAnEnd(b, a) || admitsAnEnd(a, b);
 }
 
 std::vector<Candidate> findCandidates(const cv::Mat& bgr, const ColourMasks& masks,

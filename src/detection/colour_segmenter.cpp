@@ -150,11 +150,4 @@ ColourMasks colourMasks(const cv::Mat& bgr, const ColourMaskConfig& config, int 
   return out;
 }
 
-bool neighbouringHues(const ColourClass& a, const ColourClass& b) {
-  for (int h = 0; h < 180; ++h) {
-    if (a.admitsHue(h) && (b.admitsHue(h) || b.admitsHue((h + 1) % 180) || b.admitsHue((h + 179) % 180))) return true;
-  }
-  return false;
-}
-
 }  // namespace underwater_stereo

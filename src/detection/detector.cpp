@@ -186,10 +186,11 @@ void addObjectStages(StageTimings& into, const StageTimings& t) {
 /// 63.6 % throughout; the band cut out of a near object leaves a gap wider than one eps.
 constexpr double kPieceGapInEps = 4.0;
 
-/// Detections in neighbouring colours (their hue ranges touch: red and orange, yellow and green) are pieces of
-/// one object, as those of one colour are, when their boxes also overlap this much of the smaller one (a box's
-/// lit top face read yellow and its sides orange). The share colour_model.max_overlap's default takes for one
-/// region, not tuned.
+/// Detections in neighbouring colours (their configured hue ranges touch: red and orange, yellow and green;
+/// hueNeighbours) may be pieces of one object, as those of one colour may, when their boxes also overlap this much
+/// of the smaller one (a box's lit top face read yellow and its sides orange). The share colour_model.max_overlap's
+/// default takes for one region, not tuned. Classes without a hue range (anyHue) neighbour none; a group may hold
+/// red and yellow pieces through an orange one touching both.
 constexpr double kTwoColourPieceOverlap = 0.3;
 
 /// Pieces of one object measured again as the one region they make together. The joined
@@ -210,11 +211,12 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
   }
   const auto may_join = [&](int i, int j) {
     if (colours[i] == colours[j]) return true;
-    return neighbouringHues(classes[colours[i]], classes[colours[j]]) &&
-           overlapOfSmaller(found[index[i]]->roi, found[index[j]]->roi) >= kTwoColourPieceOverlap;
+    const ColourClass &a = classes[colours[i]], &b = classes[colours[j]];
+    return overlapOfSmaller(found[index[i]]->roi, found[index[j]]->roi) >= kTwoColourPieceOverlap && !a.anyHue() &&
+           !b.anyHue() && hueNeighbours(a, b);
   };
   for (const std::vector<int>& group : piecesOfOneObject(may_join, clusters, gap_m)) {
-    // Pieces in two colours: the joined region is reported in the colour most of its pixels were named.
+    // Pieces in two colours: the joined region is reported in the colour of the largest summed piece area.
     std::map<int, double> area_in;
     for (int g : group) area_in[colours[g]] += candidates[index[g]].area_px;
     const int colour = std::max_element(area_in.begin(), area_in.end(), [](const auto& a, const auto& b) {
@@ -238,8 +240,9 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     std::optional<Detection> joined = measureOne(joinedCandidate(pieces, frame), t, rejected);
     addObjectStages(times[first], t);
     if (!joined) continue;
-    for (int g : group) {  // as sure as its surest piece (the check may score the whole lower than each piece)
-      joined->confidence = std::max(joined->confidence, found[index[g]]->confidence);
+    // As sure as its surest piece of that colour (the check may score the whole lower than each piece).
+    for (int g : group) {
+      if (colours[g] == colour) joined->confidence = std::max(joined->confidence, found[index[g]]->confidence);
     }
     for (std::size_t g = 1; g < group.size(); ++g) {
       const int k = index[group[g]];

@@ -16,7 +16,8 @@
 namespace underwater_stereo {
 namespace {
 
-/// Disparities [px] of the workspace's far and near ends for `calibration`.
+/// Disparities [px] of the workspace's far and near ends for `calibration` (one that validates, with a valid
+/// `workspace`: focal length x baseline finite and positive).
 std::pair<int, int> disparitiesOf(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
   const double fb = calibration.focalPx() * calibration.baselineM();
   const int far = static_cast<int>(std::floor(fb / workspace.max_depth_m));
@@ -527,6 +528,10 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
 }
 
 double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
+  const double fb = calibration.focalPx() * calibration.baselineM();
+  if (!(std::isfinite(fb) && fb > 0 && fb < 1e6)) {  // not a head's calibration: nothing to say beyond the config
+    return workspace.min_depth_m;
+  }
   return std::max(workspace.min_depth_m,
                   calibration.focalPx() * calibration.baselineM() / disparitiesOf(calibration, workspace).second);
 }

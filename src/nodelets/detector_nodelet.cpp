@@ -69,6 +69,7 @@ struct Processed {
   Pair pair;
   ros_glue::StereoInput input;
   DetectionResult result;
+  StereoMatchConfig workspace;  ///< the depths of the detector that processed it (dynamic_reconfigure may change them)
   ros::WallTime start;
 };
 
@@ -132,7 +133,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     } catch (const std::invalid_argument& e) {
       problems.push_back(pnh.resolveName("config_file") + " (" + config_file + "): " + e.what());
     }
-    tracking_ = std::make_unique<ros_glue::ObjectTracking>(pnh, config_.stereo, problems);
+    tracking_ = std::make_unique<ros_glue::ObjectTracking>(pnh, problems);
     search_scale_ = config_.search_scale;
     if (!problems.empty()) {
       const std::string message = joinProblems("DetectorNodelet: invalid configuration, not started", problems);
@@ -316,6 +317,7 @@ class DetectorNodelet : public nodelet::Nodelet {
     }
     try {
       out.result = detector->detect(out.input.left, out.input.right);
+      out.workspace = detector->config().stereo;
     } catch (const std::invalid_argument& e) {
       badInput(e.what());
       return std::nullopt;
@@ -334,7 +336,7 @@ class DetectorNodelet : public nodelet::Nodelet {
 
   void publish(Processed& done) {
     const std_msgs::Header& header = done.pair.left->header;
-    objects_pub_.publish(tracking_->track(done.result, header, done.input.calibration));  // drops rejected objects
+    objects_pub_.publish(tracking_->track(done.result, header, done.input.calibration, done.workspace));  // drops rejected objects
     const DetectionResult& result = done.result;
     if (markers_pub_.getNumSubscribers() > 0) markers_pub_.publish(ros_glue::toMarkers(result, header));
     if (cloud_pub_.getNumSubscribers() > 0) cloud_pub_.publish(ros_glue::toCloud(result, header));

@@ -17,16 +17,11 @@ namespace {
 
 constexpr double kProblemHoldS = 5.0;  ///< [s] of stamps a tracking problem keeps the diagnostic at WARN
 
-bool sameView(const StereoCalibration& a, const StereoCalibration& b) {
-  return a.left.width == b.left.width && a.left.height == b.left.height && a.left.K == b.left.K &&
-         a.baselineM() == b.baselineM();
-}
-
 }  // namespace
 
-ObjectTracking::ObjectTracking(const ros::NodeHandle& pnh, const StereoMatchConfig& workspace,
+ObjectTracking::ObjectTracking(const ros::NodeHandle& pnh,
                                std::vector<std::string>& problems)
-    : config_file_(ros::package::getPath("underwater_stereo") + "/config/tracking.yaml"), workspace_(workspace) {
+    : config_file_(ros::package::getPath("underwater_stereo") + "/config/tracking.yaml") {
   ParamReader params(pnh, problems);
   params.optional("tracking_config_file", config_file_);
   params.optional("fixed_frame", fixed_frame_);
@@ -72,7 +67,7 @@ std::optional<Eigen::Isometry3d> ObjectTracking::cameraPose(const std_msgs::Head
 }
 
 DetectedObjectArray ObjectTracking::track(DetectionResult& result, const std_msgs::Header& header,
-                                          const StereoCalibration& calibration) {
+                                          const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
   std::vector<Observation> observations;
   std::vector<Detection> kept;
   for (Detection& d : result.objects) {
@@ -117,13 +112,15 @@ DetectedObjectArray ObjectTracking::track(DetectionResult& result, const std_msg
   }
   if (tracked) {
     camera_pose_ = *pose;
-    if (!view_ || !sameView(calibration, view_calibration_)) {
+    // From the nearest depth stereo matches (a long baseline leaves the workspace's near end out): a track nearer
+    // than that is not expected to be seen.
+    const double near_m = nearestMatchedDepthM(calibration, workspace), far_m = workspace.max_depth_m;
+    if (!view_ || !(calibration == view_calibration_) || near_m != view_near_m_ || far_m != view_far_m_) {
       try {
-        // From the nearest depth stereo matches (a long baseline leaves the workspace's near end out): a track
-        // nearer than that is not expected to be seen.
-        view_.emplace(calibration.left, nearestMatchedDepthM(calibration, workspace_), workspace_.max_depth_m,
-                      config_.view_margin_px);
+        view_.emplace(calibration.left, near_m, far_m, config_.view_margin_px);
         view_calibration_ = calibration;
+        view_near_m_ = near_m;
+        view_far_m_ = far_m;
       } catch (const std::invalid_argument& e) {
         view_.reset();  // every track counts as in view
         last_problem_ = e.what();

@@ -2,6 +2,7 @@
 #pragma once
 /// @file The command-line options that set a scene sampler (render_scene --random, evaluate_detector --random).
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,13 +20,15 @@ struct SamplerOptions {
 
   static bool takes(const std::string& option) { return find(option) != nullptr; }
 
-  /// Reads `value` of `option` (one that takes() accepts) into `sampler`; "" or why it is not of the option's form.
+  /// Reads `value` of `option` into `sampler`; "" or why it is not of the option's form.
+  /// @throw std::invalid_argument for an option takes() does not accept.
   std::string read(const std::string& option, const std::string& value, sim::SceneSamplerConfig& sampler) {
-    const Option& o = *find(option);
-    this->*o.kept = value;
-    const bool read = o.range == nullptr ? parseImageSize(value, sampler.width, sampler.height)
-                                         : parseInterval(value, sampler.*o.range);
-    return read ? "" : option + ": '" + value + "' is not " + o.form;
+    const Option* o = find(option);
+    if (o == nullptr) throw std::invalid_argument("SamplerOptions: no option " + option);
+    this->*o->kept = value;
+    const bool parsed = o->range == nullptr ? parseImageSize(value, sampler.width, sampler.height)
+                                            : parseInterval(value, sampler.*o->range);
+    return parsed ? "" : option + ": '" + value + "' is not " + o->form;
   }
 
   /// Every option given, as a command line would repeat it (" --size 960x600 --luma 12,40"; "" when none).

@@ -70,7 +70,8 @@ OutlineKind classifyOutline(const std::vector<cv::Point>& contour);
 /// The inside of `contour` (image coordinates) filled, over `box` (CV_8UC1 0/255 of its size; 8-connected edge).
 cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box);
 
-/// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too).
+/// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too; either may lie
+/// inside the other).
 bool hueNeighbours(const ColourClass& a, const ColourClass& b);
 
 /// Candidates in `bgr` (the searched image) given its colour masks (from colourMasks() with `classes`),

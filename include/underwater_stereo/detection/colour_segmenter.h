@@ -34,10 +34,9 @@ struct ColourClass {
 
   /// Whether hue `h` (0-179) lies in [hue_min, hue_max], through 0 when the range wraps.
   bool admitsHue(int h) const { return hue_min <= hue_max ? (h >= hue_min && h <= hue_max) : (h >= hue_min || h <= hue_max); }
+  /// Whether the hue range is the whole circle (no hue given: a class only a learnt colour model names).
+  bool anyHue() const { return hue_min <= hue_max ? hue_max - hue_min >= 179 : hue_min - hue_max <= 1; }
 };
-
-/// Whether the hue ranges of `a` and `b` overlap or touch (red [165, 6] and orange [7, 14]) on the hue circle.
-bool neighbouringHues(const ColourClass& a, const ColourClass& b);
 
 struct ColourMaskConfig {
   std::vector<ColourClass> classes;  ///< the designated colours, at least one

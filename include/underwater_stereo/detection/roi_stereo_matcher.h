@@ -142,7 +142,8 @@ class RoiStereoMatcher {
 
 /// [m] The nearest depth `calibration` matches with `workspace`: workspace.min_depth_m, or farther when the
 /// workspace would span more than kMaxSgbmDisparities disparities (focal length x baseline over 569 px m at
-/// 0.5-5 m): its near end is then not searched.
+/// 0.5-5 m): its near end is then not searched. workspace.min_depth_m for a calibration whose focal length x
+/// baseline is not a head's (not finite, not positive, over 1e6 px m).
 double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace);
 
 }  // namespace underwater_stereo

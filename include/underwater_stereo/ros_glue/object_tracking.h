@@ -34,17 +34,19 @@ namespace ros_glue {
 class ObjectTracking {
  public:
   /// Reads the parameters and the tracking configuration; every problem is appended to `problems` (the
-  /// object must not be used then). `workspace`: the detector's depths, for what the camera can see.
-  ObjectTracking(const ros::NodeHandle& pnh, const StereoMatchConfig& workspace, std::vector<std::string>& problems);
+  /// object must not be used then).
+  ObjectTracking(const ros::NodeHandle& pnh, std::vector<std::string>& problems);
 
   /// Advertises ~landmarks, ~landmark_markers and the services ~reset_tracks, ~get_landmark.
   void start(ros::NodeHandle& pnh);
 
-  /// One processed pair (`header`: its stamp and the left optical frame; `calibration`: the head's):
+  /// One processed pair (`header`: its stamp and the left optical frame; `calibration`: the head's; `workspace`: the
+  /// depths of the detector that processed it, for what the camera can see):
   /// labels the objects with targets, removes those the configuration rejects, tracks the rest. Returns the
   /// ~objects message (stereo frame) with the track fields; publishes the landmarks, their markers and TF.
   /// Called for one pair at a time, in stamp order. Never throws for bad input (reported in diagnose()).
-  DetectedObjectArray track(DetectionResult& result, const std_msgs::Header& header, const StereoCalibration& calibration);
+  DetectedObjectArray track(DetectionResult& result, const std_msgs::Header& header, const StereoCalibration& calibration,
+                            const StereoMatchConfig& workspace);
 
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
@@ -58,7 +60,6 @@ class ObjectTracking {
   std::string config_file_, fixed_frame_, frame_prefix_;
   double tf_timeout_s_ = 0.05;
   bool publish_tf_ = true;
-  StereoMatchConfig workspace_;
   std::unique_ptr<TargetMatcher> matcher_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -69,7 +70,8 @@ class ObjectTracking {
   std::mutex mutex_;  ///< guards everything below (pairs arrive from workers, service calls from the callback queue)
   std::unique_ptr<Tracker> tracker_;
   std::optional<CameraView> view_;
-  StereoCalibration view_calibration_;
+  StereoCalibration view_calibration_;  ///< and the depths [m] view_ was built for
+  double view_near_m_ = 0, view_far_m_ = 0;
   std::string tracking_frame_;   ///< the frame tracks live in: fixed_frame_, or the stereo frame while it has no TF
   bool fixed_frame_seen_ = false;
   Eigen::Isometry3d camera_pose_ = Eigen::Isometry3d::Identity();
