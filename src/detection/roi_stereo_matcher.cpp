@@ -532,8 +532,7 @@ double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMa
   if (!(std::isfinite(fb) && fb > 0 && fb < 1e6)) {  // not a head's calibration: nothing to say beyond the config
     return workspace.min_depth_m;
   }
-  return std::max(workspace.min_depth_m,
-                  calibration.focalPx() * calibration.baselineM() / disparitiesOf(calibration, workspace).second);
+  return std::max(workspace.min_depth_m, fb / disparitiesOf(calibration, workspace).second);
 }
 
 }  // namespace underwater_stereo

@@ -19,8 +19,7 @@ constexpr double kProblemHoldS = 5.0;  ///< [s] of stamps a tracking problem kee
 
 }  // namespace
 
-ObjectTracking::ObjectTracking(const ros::NodeHandle& pnh,
-                               std::vector<std::string>& problems)
+ObjectTracking::ObjectTracking(const ros::NodeHandle& pnh, std::vector<std::string>& problems)
     : config_file_(ros::package::getPath("underwater_stereo") + "/config/tracking.yaml") {
   ParamReader params(pnh, problems);
   params.optional("tracking_config_file", config_file_);
