@@ -154,7 +154,7 @@ TEST(RandomisedRegression, PiecesTheCheckPassedAreJoinedWhateverItThinksOfTheWho
 
 // A red tube at 2.5 m cut by the image's top (validation seed 60299) is read as two overlapping regions, one named red
 // and one orange, whose 3D clusters touch. Detections in neighbouring colours whose boxes overlap are pieces of one
-// object too: the tube is reported once, red (the colour most of its pixels were named), in the orange piece's place,
+// object too: the tube is reported once, red (the colour of the larger summed piece area), in the orange piece's place,
 // the red one rejected as its piece (before: found orange, and the red piece a second detection).
 TEST(RandomisedRegression, PiecesInNeighbouringColoursAreOneObject) {
   expectOnePieceJoined(60299, "red_cylinder_3", "red", "red");
