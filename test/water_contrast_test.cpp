@@ -289,6 +289,29 @@ TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
                std::invalid_argument) << "not BGR";
 }
 
+// A small buoy against a large panel of another colour: the buoy is cut off as a piece, and so is the rest of their
+// region, the panel, though it holds more than kMaxPieceShare of the region's pixels (once a piece is cut off, the rest
+// is an object too: before session 49 it was no piece, the region holding the buoy's piece stood for neither, and the
+// panel was lost).
+TEST(BlobProposals, TheRestOfARegionAPieceWasCutFromIsAPieceToo) {
+  const cv::Vec3d water = kWaters[1].veil;
+  const cv::Rect panel(300, 160, 160, 120), buoy(255, 190, 45, 61);  // the buoy's part left of the panel
+  cv::Mat frame = frameWith(water, seen({20, 30, 200}, water, 0.6), {285, 220}, 30, 5);
+  frame(panel).setTo(cv::Scalar(seen({40, 160, 30}, water, 0.6)));
+  ProposalConfig config;
+  config.min_area_px = 25;
+  const ProposedAndCut cut = proposeAndCut(frame, config);
+  bool whole = false, on_buoy = false, on_panel = false;
+  for (const BlobProposal& b : cut.regions) whole |= nearlyBox(b.roi, buoy | panel);
+  for (const BlobProposal& b : cut.pieces) {
+    on_buoy |= nearlyBox(b.roi, buoy);
+    on_panel |= nearlyBox(b.roi, panel);
+  }
+  EXPECT_TRUE(whole) << "the pair is one region";
+  EXPECT_TRUE(on_buoy) << cut.pieces.size() << " pieces";
+  EXPECT_TRUE(on_panel) << cut.pieces.size() << " pieces";
+}
+
 // The steps that cut pieces are the image's chromaticity's (ln R/G, ln B/G), not its brightness's: an orange and a
 // yellow panel side by side (the yellow a little brighter) are cut apart, while one panel lit on its left half and
 // shaded on its right (60 %: a step of ln 0.6 in every channel) is not cut along its shading.

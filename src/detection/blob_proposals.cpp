@@ -162,8 +162,9 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
           zScore(f_mean, wc.stats, SaliencyKind::kFull, 1), zScore(f_mean, wc.stats, SaliencyKind::kFull, 2)};
 }
 
-/// A piece is kept when it holds kMinPieceShare-kMaxPieceShare of its region's pixels (the rest of a region cut only
-/// at its rim is no piece).
+/// A piece is kept when it holds kMinPieceShare-kMaxPieceShare of its region's pixels, or more once another piece was
+/// cut off the region (the rest of a region cut only at its rim is no piece; the rest of one a buoy was cut off is the
+/// object the buoy touched: docs/accuracy.md, "The rest of a region is a piece too").
 constexpr double kMinPieceShare = 0.05, kMaxPieceShare = 0.8;
 
 /// Where `bgr`'s chromaticity steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of
@@ -221,9 +222,15 @@ void addPieces(const BlobProposal& b, const cv::Mat& steps, const cv::Rect& area
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(inner, labels, stats, centroids, 4, CV_32S);
   static const cv::Mat grow = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
+  const double least = std::max(min_area_px, kMinPieceShare * b.area_px);
+  int cut_off = 0;  // pieces within kMinPieceShare-kMaxPieceShare of the region
   for (int k = 1; k < n; ++k) {
     const double area_px = stats.at<int>(k, cv::CC_STAT_AREA);
-    if (area_px < std::max(min_area_px, kMinPieceShare * b.area_px) || area_px > kMaxPieceShare * b.area_px) continue;
+    cut_off += area_px >= least && area_px <= kMaxPieceShare * b.area_px;
+  }
+  for (int k = 1; k < n; ++k) {
+    const double area_px = stats.at<int>(k, cv::CC_STAT_AREA);
+    if (area_px < least || (area_px > kMaxPieceShare * b.area_px && cut_off == 0)) continue;
     cv::Mat piece = labels == k;
     cv::dilate(piece, piece, grow);
     cv::bitwise_and(piece, b.mask, piece);
