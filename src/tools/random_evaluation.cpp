@@ -151,6 +151,32 @@ const std::vector<std::string>& missCauseNames() {
   return names;
 }
 
+int objectUnder(const cv::Mat& labels, const std::vector<ObjectRecord>& objects, const cv::Rect& roi) {
+  if (labels.type() != CV_16UC1) throw std::invalid_argument("objectUnder: truth labels must be CV_16UC1");
+  const cv::Rect box = roi & cv::Rect(cv::Point(), labels.size());
+  std::vector<int> counts(objects.size(), 0);
+  for (int v = box.y; v < box.br().y; ++v) {
+    const auto* row = labels.ptr<std::uint16_t>(v);
+    for (int u = box.x; u < box.br().x; ++u) {
+      if (row[u] > 0 && row[u] <= counts.size()) ++counts[row[u] - 1];
+    }
+  }
+  int same_box = -1, most_pixels = -1;
+  double best_iou = kSameBoxIou;
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    if (counts[k] == 0) continue;
+    const cv::Rect& truth = objects[k].roi;
+    const double iou = static_cast<double>((truth & box).area()) / (truth | box).area();
+    if (iou >= best_iou) {
+      best_iou = iou;
+      same_box = static_cast<int>(k);
+    }
+    const double needed = 0.2 * std::min<double>(box.area(), objects[k].visible_pixels);
+    if (counts[k] >= needed && (most_pixels < 0 || counts[k] > counts[most_pixels])) most_pixels = static_cast<int>(k);
+  }
+  return same_box >= 0 ? same_box : most_pixels;
+}
+
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma) {
   PairRecord rec;
@@ -186,25 +212,9 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
                  gt.range_m <= kMaxRangeM;
     rec.objects.push_back(o);
   }
-  // The object with most of its truth pixels in `roi` (at least 20 % of the smaller of box and object), or -1.
-  auto objectUnder = [&](const cv::Rect& roi) {
-    const cv::Rect box = roi & cv::Rect(cv::Point(), size);
-    std::vector<int> counts(rec.objects.size(), 0);
-    for (int v = box.y; v < box.br().y; ++v) {
-      const auto* row = pair.left_labels.ptr<std::uint16_t>(v);
-      for (int u = box.x; u < box.br().x; ++u) {
-        if (row[u] > 0 && row[u] <= counts.size()) ++counts[row[u] - 1];
-      }
-    }
-    int best = -1;
-    for (std::size_t k = 0; k < counts.size(); ++k) {
-      const double needed = 0.2 * std::min<double>(box.area(), rec.objects[k].visible_pixels);
-      if (counts[k] > 0 && counts[k] >= needed && (best < 0 || counts[k] > counts[best])) best = static_cast<int>(k);
-    }
-    return best;
-  };
+  const auto lyingOn = [&](const cv::Rect& roi) { return objectUnder(pair.left_labels, rec.objects, roi); };
   for (const Detection& d : result.objects) {
-    const int best = objectUnder(d.roi);
+    const int best = lyingOn(d.roi);
     if (best >= 0 && rec.objects[best].designated && !rec.objects[best].found) {
       // The first detection of a designated object; one of an object too small, near or far is no false one.
       ObjectRecord& o = rec.objects[best];
@@ -226,7 +236,7 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   // A missed object's cause: the latest stage that turned down a region on it.
   std::vector<int> latest(rec.objects.size(), -1);
   for (const Rejection& r : result.rejected) {
-    const int k = objectUnder(r.roi);
+    const int k = lyingOn(r.roi);
     if (k >= 0) latest[k] = std::max(latest[k], static_cast<int>(r.stage));
   }
   for (std::size_t k = 0; k < rec.objects.size(); ++k) {

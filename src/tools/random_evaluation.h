@@ -78,10 +78,20 @@ struct PairRecord {
 /// or its region was passed over as a weaker view of a kept candidate. In that order.
 const std::vector<std::string>& missCauseNames();
 
-/// Matches detections to the truth: a detection belongs to the object with most of its truth pixels inside the
-/// detection's box (at least 20 % of the smaller of box and object); the first detection of an object counts,
-/// others and those on no eligible object are false, those on designated objects that are not eligible (too
-/// small, too near or far) are neither. A missed eligible object gets its miss_cause from the rejections matched
+/// A box matches a truth object's box by intersection over union from this (PASCAL VOC's rule).
+constexpr double kSameBoxIou = 0.5;
+
+/// The truth object (index into `objects`, each one's `roi` and `visible_pixels` set) a box `roi` of the left image
+/// lies on, or -1: the object with some truth pixels in it whose box it matches best by intersection over union, from
+/// kSameBoxIou; else the object with most of its truth pixels in it (at least 20 % of the smaller of box and object:
+/// a detection of part of an object). `labels`: the left image's truth labels (CV_16UC1, object k as k + 1, 0 none).
+/// Boxes first: a partly hidden object's detection lies on it, not on the nearer object whose pixels fill more of its
+/// box. @throw std::invalid_argument when labels is not CV_16UC1.
+int objectUnder(const cv::Mat& labels, const std::vector<ObjectRecord>& objects, const cv::Rect& roi);
+
+/// Matches detections to the truth: a detection belongs to the object under its box (objectUnder); the first
+/// detection of an object counts, others and those on no eligible object are false, those on designated objects that
+/// are not eligible (too small, too near or far) are neither. A missed eligible object gets its miss_cause from the rejections matched
 /// to it by the same rule. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
