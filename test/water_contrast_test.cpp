@@ -244,6 +244,11 @@ ProposedAndCut proposeAndCut(const cv::Mat& frame, const ProposalConfig& config)
   return out;
 }
 
+/// Whether one of `proposals` has nearly the box `box` (nearlyBox).
+bool anyNearly(const std::vector<BlobProposal>& proposals, const cv::Rect& box) {
+  return std::any_of(proposals.begin(), proposals.end(), [&](const BlobProposal& b) { return nearlyBox(b.roi, box); });
+}
+
 }  // namespace
 
 // A green panel in front of a red buoy is one region at every level, which its steps cut into pieces, one on each
@@ -260,18 +265,14 @@ TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
   for (const auto& [frame, step] : {std::pair{lone, shipped}, std::pair{pair, shipped}, std::pair{pair, 0.0}}) {
     config.piece_step = step;
     const ProposedAndCut cut = proposeAndCut(frame, config);
-    bool whole = false, on_buoy = false, on_panel = false;
-    for (const BlobProposal& b : cut.regions) {
-      EXPECT_FALSE(b.piece);
-      whole |= nearlyBox(b.roi, buoy | panel);
-    }
+    for (const BlobProposal& b : cut.regions) EXPECT_FALSE(b.piece);
     const int pieces = static_cast<int>(cut.pieces.size());
     for (const BlobProposal& b : cut.pieces) {
       EXPECT_TRUE(b.piece);
-      on_buoy |= nearlyBox(b.roi, buoy);
-      on_panel |= nearlyBox(b.roi, panel);
       ASSERT_EQ(b.features.size(), static_cast<std::size_t>(kBlobFeatureCount));
     }
+    const bool whole = anyNearly(cut.regions, buoy | panel), on_buoy = anyNearly(cut.pieces, buoy),
+               on_panel = anyNearly(cut.pieces, panel);
     if (frame.data == lone.data) {
       EXPECT_EQ(pieces, 0) << "a lone buoy is cut only at its rim";
     } else if (step > 0) {
@@ -301,15 +302,9 @@ TEST(BlobProposals, TheRestOfARegionAPieceWasCutFromIsAPieceToo) {
   ProposalConfig config;
   config.min_area_px = 25;
   const ProposedAndCut cut = proposeAndCut(frame, config);
-  bool whole = false, on_buoy = false, on_panel = false;
-  for (const BlobProposal& b : cut.regions) whole |= nearlyBox(b.roi, buoy | panel);
-  for (const BlobProposal& b : cut.pieces) {
-    on_buoy |= nearlyBox(b.roi, buoy);
-    on_panel |= nearlyBox(b.roi, panel);
-  }
-  EXPECT_TRUE(whole) << "the pair is one region";
-  EXPECT_TRUE(on_buoy) << cut.pieces.size() << " pieces";
-  EXPECT_TRUE(on_panel) << cut.pieces.size() << " pieces";
+  EXPECT_TRUE(anyNearly(cut.regions, buoy | panel)) << "the pair is one region";
+  EXPECT_TRUE(anyNearly(cut.pieces, buoy)) << cut.pieces.size() << " pieces";
+  EXPECT_TRUE(anyNearly(cut.pieces, panel)) << cut.pieces.size() << " pieces";
 }
 
 // The steps that cut pieces are the image's chromaticity's (ln R/G, ln B/G), not its brightness's: an orange and a
@@ -328,13 +323,8 @@ TEST(BlobProposals, PiecesFollowChromaticityStepsNotShading) {
   config.min_area_px = 25;
   for (const cv::Mat& frame : {two_colours, shaded}) {
     const ProposedAndCut cut = proposeAndCut(frame, config);
-    const bool whole = std::any_of(cut.regions.begin(), cut.regions.end(),
-                                   [&](const BlobProposal& b) { return nearlyBox(b.roi, left | right); });
-    bool on_left = false, on_right = false;
-    for (const BlobProposal& b : cut.pieces) {
-      on_left |= nearlyBox(b.roi, left);
-      on_right |= nearlyBox(b.roi, right);
-    }
+    const bool whole = anyNearly(cut.regions, left | right), on_left = anyNearly(cut.pieces, left),
+               on_right = anyNearly(cut.pieces, right);
     if (frame.data == two_colours.data) {
       ASSERT_TRUE(whole) << "the two panels are one region";
       EXPECT_TRUE(on_left && on_right) << cut.pieces.size() << " pieces";

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <vector>
@@ -162,9 +163,9 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
           zScore(f_mean, wc.stats, SaliencyKind::kFull, 1), zScore(f_mean, wc.stats, SaliencyKind::kFull, 2)};
 }
 
-/// A piece is kept when it holds kMinPieceShare-kMaxPieceShare of its region's pixels, or more once another piece was
-/// cut off the region (the rest of a region cut only at its rim is no piece; the rest of one a buoy was cut off is the
-/// object the buoy touched: docs/accuracy.md, "The rest of a region is a piece too").
+/// A piece is kept when it holds kMinPieceShare-kMaxPieceShare of its region's pixels; the rest of the region (more)
+/// only once such a piece was kept: the rest of a region cut into slivers alone is the region again, the rest of one a
+/// buoy was cut off is the object the buoy touched (docs/accuracy.md, "The rest of a region is a piece too").
 constexpr double kMinPieceShare = 0.05, kMaxPieceShare = 0.8;
 
 /// Where `bgr`'s chromaticity steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of
@@ -213,44 +214,50 @@ cv::Mat stepsIn(const cv::Mat& bgr, const cv::Rect& area, double step) {
   return steps;
 }
 
-/// The pieces of `b` that the steps (stepsIn over `area`) cut it into, each grown back over the step it was cut
-/// along (inside `b`), appended to `out`.
+/// Component `k` of `labels` (connectedComponents of `b`'s mask less its steps) grown back over the step it was cut
+/// along (inside `b`), as a piece; nothing when its outline is under `min_area_px`.
+std::optional<BlobProposal> pieceOf(const BlobProposal& b, const cv::Mat& labels, int k, double min_area_px) {
+  static const cv::Mat grow = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
+  cv::Mat piece = labels == k;
+  cv::dilate(piece, piece, grow);
+  cv::bitwise_and(piece, b.mask, piece);
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(piece, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, b.roi.tl());
+  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& x, const auto& y) {
+    return cv::contourArea(x) < cv::contourArea(y);
+  });
+  if (largest == contours.end() || largest->size() < 3) return std::nullopt;
+  BlobProposal p;
+  p.area_px = cv::contourArea(*largest);
+  if (p.area_px < min_area_px) return std::nullopt;
+  p.roi = cv::boundingRect(*largest);
+  p.mask = filledOutline(*largest, p.roi);
+  p.kind = b.kind;
+  p.level = b.level;
+  p.contour = std::move(*largest);
+  p.piece = true;
+  return p;
+}
+
+/// The pieces of `b` that the steps (stepsIn over `area`) cut it into, appended to `out`: those of
+/// kMinPieceShare-kMaxPieceShare of its pixels, and once one of them is kept, the rest of it (a larger one).
 void addPieces(const BlobProposal& b, const cv::Mat& steps, const cv::Rect& area, double min_area_px,
                std::vector<BlobProposal>& out) {
   cv::Mat inner;
   cv::bitwise_and(b.mask, ~steps(b.roi - area.tl()), inner);
   cv::Mat labels, stats, centroids;
   const int n = cv::connectedComponentsWithStats(inner, labels, stats, centroids, 4, CV_32S);
-  static const cv::Mat grow = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5));
-  const double least = std::max(min_area_px, kMinPieceShare * b.area_px);
-  int cut_off = 0;  // pieces within kMinPieceShare-kMaxPieceShare of the region
+  const double least = std::max(min_area_px, kMinPieceShare * b.area_px), most = kMaxPieceShare * b.area_px;
+  const std::size_t before = out.size();
+  int rest = -1;  // the component over `most` (at most one)
   for (int k = 1; k < n; ++k) {
     const double area_px = stats.at<int>(k, cv::CC_STAT_AREA);
-    cut_off += area_px >= least && area_px <= kMaxPieceShare * b.area_px;
+    if (area_px > most) rest = k;
+    if (area_px < least || area_px > most) continue;
+    if (auto p = pieceOf(b, labels, k, min_area_px)) out.push_back(std::move(*p));
   }
-  for (int k = 1; k < n; ++k) {
-    const double area_px = stats.at<int>(k, cv::CC_STAT_AREA);
-    if (area_px < least || (area_px > kMaxPieceShare * b.area_px && cut_off == 0)) continue;
-    cv::Mat piece = labels == k;
-    cv::dilate(piece, piece, grow);
-    cv::bitwise_and(piece, b.mask, piece);
-    std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(piece, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, b.roi.tl());
-    const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& x, const auto& y) {
-      return cv::contourArea(x) < cv::contourArea(y);
-    });
-    if (largest == contours.end() || largest->size() < 3) continue;
-    BlobProposal p;
-    p.area_px = cv::contourArea(*largest);
-    if (p.area_px < min_area_px) continue;
-    p.roi = cv::boundingRect(*largest);
-    p.mask = filledOutline(*largest, p.roi);
-    p.kind = b.kind;
-    p.level = b.level;
-    p.contour = std::move(*largest);
-    p.piece = true;
-    out.push_back(std::move(p));
-  }
+  if (rest < 0 || out.size() == before) return;
+  if (auto p = pieceOf(b, labels, rest, min_area_px)) out.push_back(std::move(*p));
 }
 
 }  // namespace

@@ -100,8 +100,9 @@ ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfi
 }
 
 /// A region holds a piece when their boxes overlap this much of the smaller one (overlapOfSmaller: a region smaller
-/// than the piece's box and inside it counts too).
-constexpr double kPieceInside = 0.9;
+/// than the piece's box and inside it counts too) and their pixels more than half of the smaller mask's (sameRegion:
+/// a region inside the box of the rest of a larger one, beside its pixels, holds no part of it).
+constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 
 /// Which regions stand for their objects: a region that holds pieces (BlobProposal::piece) named two colours with
 /// their own votes (`own_needed`) holds two objects, so its pieces stand for it and it does not; a piece cut from a
@@ -120,7 +121,11 @@ std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const st
     if (regions[i].piece) continue;
     std::vector<std::size_t> inside;
     for (std::size_t p : named_pieces) {
-      if (overlapOfSmaller(regions[p].roi, regions[i].roi) >= kPieceInside) inside.push_back(p);
+      const BlobProposal& piece = regions[p];
+      if (overlapOfSmaller(piece.roi, regions[i].roi) >= kPieceInside &&
+          sameRegion(piece.roi, piece.mask, regions[i].roi, regions[i].mask, kPieceInsidePixels)) {
+        inside.push_back(p);
+      }
     }
     const bool two_colours = std::any_of(inside.begin(), inside.end(), [&](std::size_t p) {
       return verdicts[p].colour != verdicts[inside.front()].colour;

@@ -164,15 +164,13 @@ int objectUnder(const cv::Mat& labels, const std::vector<ObjectRecord>& objects,
   int same_box = -1, most_pixels = -1;
   double best_iou = kSameBoxIou;
   for (std::size_t k = 0; k < counts.size(); ++k) {
-    if (counts[k] == 0) continue;
-    const cv::Rect& truth = objects[k].roi;
-    const double iou = static_cast<double>((truth & box).area()) / (truth | box).area();
-    if (iou >= best_iou) {
+    if (counts[k] == 0 || counts[k] < 0.2 * std::min<double>(box.area(), objects[k].visible_pixels)) continue;
+    const double iou = boxIou(objects[k].roi, box);
+    if (iou > best_iou || (iou == best_iou && same_box < 0)) {
       best_iou = iou;
       same_box = static_cast<int>(k);
     }
-    const double needed = 0.2 * std::min<double>(box.area(), objects[k].visible_pixels);
-    if (counts[k] >= needed && (most_pixels < 0 || counts[k] > counts[most_pixels])) most_pixels = static_cast<int>(k);
+    if (most_pixels < 0 || counts[k] > counts[most_pixels]) most_pixels = static_cast<int>(k);
   }
   return same_box >= 0 ? same_box : most_pixels;
 }

@@ -82,17 +82,18 @@ const std::vector<std::string>& missCauseNames();
 constexpr double kSameBoxIou = 0.5;
 
 /// The truth object (index into `objects`, each one's `roi` and `visible_pixels` set) a box `roi` of the left image
-/// lies on, or -1: the object with some truth pixels in it whose box it matches best by intersection over union, from
-/// kSameBoxIou; else the object with most of its truth pixels in it (at least 20 % of the smaller of box and object:
-/// a detection of part of an object). `labels`: the left image's truth labels (CV_16UC1, object k as k + 1, 0 none).
-/// Boxes first: a partly hidden object's detection lies on it, not on the nearer object whose pixels fill more of its
-/// box. @throw std::invalid_argument when labels is not CV_16UC1.
+/// lies on, or -1. Of the objects with at least 20 % of the smaller of box and object in it (truth pixels): the one
+/// whose box it matches best by intersection over union, from kSameBoxIou (ties: the first); else the one with most
+/// pixels in it (a detection of part of an object). `labels`: the left image's truth labels (CV_16UC1, object k as
+/// k + 1, 0 none). Boxes first: a partly hidden object's detection lies on it, not on the nearer object whose pixels
+/// fill more of its box. @throw std::invalid_argument when labels is not CV_16UC1.
 int objectUnder(const cv::Mat& labels, const std::vector<ObjectRecord>& objects, const cv::Rect& roi);
 
 /// Matches detections to the truth: a detection belongs to the object under its box (objectUnder); the first
 /// detection of an object counts, others and those on no eligible object are false, those on designated objects that
-/// are not eligible (too small, too near or far) are neither. A missed eligible object gets its miss_cause from the rejections matched
-/// to it by the same rule. @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
+/// are not eligible (too small, too near or far) are neither. A missed eligible object gets its miss_cause from the
+/// rejections matched to it by the same rule.
+/// @throw std::invalid_argument when a truth object's shape is no ShapeKind name.
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
                         double luma);
 
