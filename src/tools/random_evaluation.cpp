@@ -161,18 +161,18 @@ int objectUnder(const cv::Mat& labels, const std::vector<ObjectRecord>& objects,
       if (row[u] > 0 && row[u] <= counts.size()) ++counts[row[u] - 1];
     }
   }
-  int same_box = -1, most_pixels = -1;
-  double best_iou = kSameBoxIou;
+  int best_box = -1, most_pixels = -1;
+  double best_iou = 0;
   for (std::size_t k = 0; k < counts.size(); ++k) {
     if (counts[k] == 0 || counts[k] < 0.2 * std::min<double>(box.area(), objects[k].visible_pixels)) continue;
     const double iou = boxIou(objects[k].roi, box);
-    if (iou > best_iou || (iou == best_iou && same_box < 0)) {
+    if (iou > best_iou) {
       best_iou = iou;
-      same_box = static_cast<int>(k);
+      best_box = static_cast<int>(k);
     }
     if (most_pixels < 0 || counts[k] > counts[most_pixels]) most_pixels = static_cast<int>(k);
   }
-  return same_box >= 0 ? same_box : most_pixels;
+  return best_iou >= kSameBoxIou ? best_box : most_pixels;
 }
 
 PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPair& pair, const DetectionResult& result,
