@@ -299,6 +299,45 @@ TEST(Detector, EmptySceneGivesNothing) {
   EXPECT_TRUE(detector.detect(pair.left, pair.right).objects.empty());
 }
 
+// The red buoy 2.5 m away with a yellow panel 0.6 m away that hides it from the right camera only (the left one sees
+// it beside the panel's edge): block matching puts the buoy's pixels on the panel (0.58 m without the colour check,
+// stereo.max_colour_difference 1), and the right camera sees them yellow. The buoy is turned down, saying why.
+TEST(Detector, AnObjectHiddenFromTheRightCameraIsNotRangedAtWhatHidesIt) {
+  sim::Scene scene = twoBuoys();
+  scene.objects.pop_back();  // the green buoy (the panel would hide it from both cameras)
+  sim::SceneObject panel;
+  panel.name = "panel";
+  panel.shape = sim::ShapeType::kPanel;
+  panel.colour = "yellow";
+  panel.albedo = {0.85, 0.75, 0.1};
+  panel.position_m = {0.1, 0.024, 0.6};
+  panel.size_m = {0.3, 0.3, 0};
+  panel.texture = 0.8;
+  scene.objects.push_back(panel);
+  const sim::Renderer renderer(scene);
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const sim::GroundTruthObject& buoy = pair.ground_truth.at(0);
+  ASSERT_EQ(buoy.colour, "red");
+  ASSERT_GT(buoy.visible_pixels, 2000);  // whole in the left view
+  const auto onTheBuoy = [&](const cv::Rect& roi) { return buoy.roi_left.contains((roi.tl() + roi.br()) / 2); };
+  DetectorConfig unchecked = defaultConfig();
+  unchecked.stereo.max_colour_difference = 1;
+  const DetectionResult before = Detector(unchecked, renderer.calibration()).detect(pair.left, pair.right);
+  const auto wrong = std::find_if(before.objects.begin(), before.objects.end(),
+                                  [&](const Detection& d) { return onTheBuoy(d.roi); });
+  ASSERT_NE(wrong, before.objects.end()) << "the scene no longer shows the case";
+  EXPECT_LT(wrong->range_m, 1.0);
+
+  const DetectionResult r = Detector(defaultConfig(), renderer.calibration()).detect(pair.left, pair.right);
+  for (const Detection& d : r.objects) {
+    if (onTheBuoy(d.roi)) EXPECT_NEAR(d.range_m, buoy.range_m, 0.03 * buoy.range_m) << "no made-up range";
+  }
+  const auto why = std::find_if(r.rejected.begin(), r.rejected.end(), [&](const Rejection& j) {
+    return onTheBuoy(j.roi) && j.reason.find("another colour in the right image") != std::string::npos;
+  });
+  EXPECT_NE(why, r.rejected.end()) << "the buoy's rejection says the right camera sees it in another colour";
+}
+
 TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
   const sim::Renderer renderer(twoBuoys());
   Detector detector(defaultConfig(), renderer.calibration());

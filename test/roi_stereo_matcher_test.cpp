@@ -257,7 +257,8 @@ TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
   StereoMatchConfig bad;
   bad.min_depth_m = 6.0;
   bad.block_size = 4;
-  EXPECT_EQ(bad.validate().size(), 2U);
+  bad.max_colour_difference = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(bad.validate().size(), 3U);
   EXPECT_THROW(RoiStereoMatcher(c, bad), std::invalid_argument);
   c.right.P(0, 3) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(RoiStereoMatcher(c, StereoMatchConfig{}), std::invalid_argument);

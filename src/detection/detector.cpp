@@ -447,7 +447,11 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
     rejected.reason = "too few 3D points (" + std::to_string(clusters.empty() ? 0 : clusters.front().size()) + " < " +
                       std::to_string(config_.min_cluster_points) + " in its main cluster, of " +
-                      std::to_string(roi_points.points.size()) + " matched)";
+                      std::to_string(roi_points.points.size()) + " matched" +
+                      (roi_points.other_colour_points > 0
+                           ? "; " + std::to_string(roi_points.other_colour_points) +
+                                 " more matched onto another colour in the right image: hidden from the right camera?)"
+                           : ")");
     return std::nullopt;
   }
   const cv::Mat left_roi = left.bgr(c.roi);
@@ -625,11 +629,17 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                std::to_string(n) + " objects' views lie right of their left ones in the right image, " +
                                std::to_string(pair_order.silhouettes) +
                                " found their silhouette where it should be (left and right images the wrong way round?)";
+    // Every object stereo measured or turned down was matched the wrong way round (a point the two cameras see in
+    // other colours is dropped, so a swapped pair's objects may be turned down for too few points).
     for (int k = 0; k < n; ++k) {
-      if (!found[k]) continue;
-      why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kLeftRightSwapped,
-                         reason};
-      found[k].reset();
+      if (found[k]) {
+        why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kLeftRightSwapped,
+                           reason};
+        found[k].reset();
+      } else if (turnedDownByStereo(why[k].stage)) {
+        why[k].stage = RejectionStage::kLeftRightSwapped;
+        why[k].reason = reason;
+      }
     }
   } else {
     joinPieces(front.candidates, config_.colours.classes, found, why, times,

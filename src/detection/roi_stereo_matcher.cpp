@@ -59,6 +59,35 @@ constexpr double kMaxWindowEdgeShare = 0.3;
 /// numDisparities, must be a multiple).
 constexpr int kDisparityStep = 16;
 
+/// A raw frame's colour at `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B and mean G,
+/// no demosaicing) averaged over 3x3 cells, so about 6x6 pixels around each point.
+std::vector<cv::Vec3f> coloursAround(const RawFrame& frame, const std::vector<cv::Point>& at) {
+  std::vector<cv::Vec3f> out(at.size());
+  if (at.empty()) return out;
+  cv::Rect box = cv::boundingRect(at);
+  box = cv::Rect((box.x - 4) & ~1, (box.y - 4) & ~1, box.width + 10, box.height + 10) &
+        cv::Rect(0, 0, frame.size().width & ~1, frame.size().height & ~1);
+  box.width &= ~1;
+  box.height &= ~1;
+  if (box.empty()) return out;
+  cv::Mat half;
+  cv::blur(frame.halfSizeBgr(box), half, cv::Size(3, 3), cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    const int x = std::clamp((at[i].x - box.x) / 2, 0, half.cols - 1), y = std::clamp((at[i].y - box.y) / 2, 0, half.rows - 1);
+    out[i] = half.at<cv::Vec3b>(y, x);
+  }
+  return out;
+}
+
+/// How far apart two colours' chromaticities lie: half the summed absolute difference of their channels' shares
+/// (0 alike, 1 disjoint); 0 when either is too dark to tell (channels summing under kMinChromaSum).
+constexpr float kMinChromaSum = 30;
+float chromaDistance(const cv::Vec3f& a, const cv::Vec3f& b) {
+  const float sa = a[0] + a[1] + a[2], sb = b[0] + b[1] + b[2];
+  if (sa < kMinChromaSum || sb < kMinChromaSum) return 0;
+  return 0.5F * (std::abs(a[0] / sa - b[0] / sb) + std::abs(a[1] / sa - b[1] / sb) + std::abs(a[2] / sa - b[2] / sb));
+}
+
 /// `n` disparities rounded up to whole steps.
 int roundUpToDisparityStep(int n) { return ((n + kDisparityStep - 1) / kDisparityStep) * kDisparityStep; }
 
@@ -218,6 +247,9 @@ std::vector<std::string> StereoMatchConfig::validate() const {
   if (margin_px < 0 || margin_px > 200) p.push_back("stereo.margin_px must be in [0, 200]");
   if (erode_px < 0 || erode_px > 50) p.push_back("stereo.erode_px must be in [0, 50]");
   if (max_points < 10 || max_points > 1000000) p.push_back("stereo.max_points must be in [10, 1000000]");
+  if (!(max_colour_difference >= 0 && max_colour_difference <= 1)) {
+    p.push_back("stereo.max_colour_difference must be in [0, 1]");
+  }
   return p;
 }
 
@@ -323,7 +355,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     }
   }
   out.matching_ms = lap.lapMs();
-  reproject(mask_band, disparity16, band, out);
+  reproject(left, right, mask_band, disparity16, band, out);
   out.reprojection_ms = lap.lapMs();
   return out;
 }
@@ -417,12 +449,14 @@ cv::Mat RoiStereoMatcher::blockMatch(const cv::Mat& left_band, const cv::Mat& ri
   return Sgbm3WayMatcher(sgbm).compute(left_band, right_band);
 }
 
-void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band,
-                                 RoiPoints& out) const {
+void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, const cv::Mat& mask_band,
+                                 const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const {
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM(), nearest = nearestDepthM();
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
+  std::vector<Eigen::Vector3f> points;
+  std::vector<cv::Point> left_at, right_at;  // each point's raw pixel in either frame
   for (int v = 0; v < mask_band.rows; ++v) {
     const auto* m = mask_band.ptr<std::uint8_t>(v);
     const auto* d = disparity16.ptr<short>(v);
@@ -436,7 +470,22 @@ void RoiStereoMatcher::reproject(const cv::Mat& mask_band, const cv::Mat& dispar
       if ((v % step) != 0 || (u % step) != 0) continue;
       const cv::Vec3d rect((u + band.left.x - cx) * z / f, (v + band.left.y - cy) * z / f, z);
       const cv::Vec3d raw = left_r_transposed_ * rect;
-      out.points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
+      points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
+      const int row = v + band.left.y, right_column = static_cast<int>(std::lround(u + band.left.x - disparity));
+      const cv::Vec2s l = left_map_xy_.at<cv::Vec2s>(row, u + band.left.x);
+      const cv::Vec2s r = right_map_xy_.at<cv::Vec2s>(row, std::min(right_column, right_map_xy_.cols - 1));
+      left_at.emplace_back(l[0], l[1]);
+      right_at.emplace_back(r[0], r[1]);
+    }
+  }
+  // A point the two cameras see in other colours was matched onto something else: most often a nearer object that
+  // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours").
+  const std::vector<cv::Vec3f> left_colour = coloursAround(left, left_at), right_colour = coloursAround(right, right_at);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (chromaDistance(left_colour[i], right_colour[i]) <= config_.max_colour_difference) {
+      out.points.push_back(points[i]);
+    } else {
+      ++out.other_colour_points;
     }
   }
 }

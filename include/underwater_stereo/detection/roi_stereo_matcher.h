@@ -31,6 +31,10 @@ struct StereoMatchConfig {
   int margin_px = 12;          ///< context around the ROI for matching
   int erode_px = 3;            ///< shrink the object's mask by this much (disparities at its edge are unreliable)
   int max_points = 1500;       ///< mask pixels are sampled on a grid to at most about this many points
+  /// A sampled point whose colour the two cameras see this far apart (chromaticity: half the summed absolute
+  /// difference of the channels' shares, around 6x6 raw pixels; 0-1) was matched onto something else, most often a
+  /// nearer object hiding it from the right camera: it is dropped (1: never).
+  double max_colour_difference = 0.05;
 
   std::vector<std::string> validate() const;
 };
@@ -40,6 +44,8 @@ struct RoiPoints {
   std::vector<Eigen::Vector3f> points;  ///< [m]
   int mask_pixels = 0;                  ///< object pixels in the rectified band (after erosion)
   int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace (and the right image)
+  /// Sampled points dropped because the right camera sees them in another colour (StereoMatchConfig::max_colour_difference).
+  int other_colour_points = 0;
   /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
   /// and right colour masks (sub-pixel, from the masks' column profiles). A sphere's outline is the tangent
   /// cone around its centre and a cylinder's the tangent lines of its axis, so this is the depth of the centre
@@ -122,8 +128,10 @@ class RoiStereoMatcher {
                          const MatchBand& band) const;
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
-  /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`).
-  void reproject(const cv::Mat& mask_band, const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const;
+  /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`), but those the
+  /// raw frames `left` and `right` show in other colours.
+  void reproject(const RawFrame& left, const RawFrame& right, const cv::Mat& mask_band, const cv::Mat& disparity16,
+                 const MatchBand& band, RoiPoints& out) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
   bool inWorkspace(double disparity) const;
   /// Disparities [px] of the workspace's far and near ends (the near one at most kMaxSgbmDisparities beyond the far).
