@@ -221,20 +221,16 @@ std::optional<BlobProposal> pieceOf(const BlobProposal& b, const cv::Mat& labels
   cv::Mat piece = labels == k;
   cv::dilate(piece, piece, grow);
   cv::bitwise_and(piece, b.mask, piece);
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(piece, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, b.roi.tl());
-  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& x, const auto& y) {
-    return cv::contourArea(x) < cv::contourArea(y);
-  });
-  if (largest == contours.end() || largest->size() < 3) return std::nullopt;
+  std::vector<cv::Point> outline = largestOutline(piece, b.roi.tl());
+  if (outline.empty()) return std::nullopt;
   BlobProposal p;
-  p.area_px = cv::contourArea(*largest);
+  p.area_px = cv::contourArea(outline);
   if (p.area_px < min_area_px) return std::nullopt;
-  p.roi = cv::boundingRect(*largest);
-  p.mask = filledOutline(*largest, p.roi);
+  p.roi = cv::boundingRect(outline);
+  p.mask = filledOutline(outline, p.roi);
   p.kind = b.kind;
   p.level = b.level;
-  p.contour = std::move(*largest);
+  p.contour = std::move(outline);
   p.piece = true;
   return p;
 }

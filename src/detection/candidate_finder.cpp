@@ -184,6 +184,16 @@ cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box
   return filled;
 }
 
+std::vector<cv::Point> largestOutline(const cv::Mat& mask, const cv::Point& origin) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, origin);  // (not modified since OpenCV 3.2)
+  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+    return cv::contourArea(a) < cv::contourArea(b);
+  });
+  if (largest == contours.end() || largest->size() < 3) return {};
+  return std::move(*largest);
+}
+
 OutlineKind classifyOutline(const std::vector<cv::Point>& contour) {
   if (contour.size() < 3) throw std::invalid_argument("classifyOutline: a contour needs at least 3 points");
   const double perimeter = cv::arcLength(contour, true);

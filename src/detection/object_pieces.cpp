@@ -124,12 +124,8 @@ Candidate joinedCandidate(const std::vector<const Candidate*>& pieces, const cv:
     cv::Mat into = c.mask(r - roi.tl());
     cv::bitwise_or(into, p->mask(r - p->roi.tl()), into);
   }
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(c.mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, roi.tl());
-  const auto largest = std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
-    return cv::contourArea(a) < cv::contourArea(b);
-  });
-  if (largest != contours.end() && largest->size() >= 3) c.contour = *largest;
+  std::vector<cv::Point> outline = largestOutline(c.mask, roi.tl());
+  if (!outline.empty()) c.contour = std::move(outline);
   c.area_px = area;
   if (c.contour.size() >= 3) c.outline = classifyOutline(c.contour);
   if (area > 0) c.mean_bgr = colour_sum * (1.0 / area);

@@ -70,6 +70,10 @@ OutlineKind classifyOutline(const std::vector<cv::Point>& contour);
 /// The inside of `contour` (image coordinates) filled, over `box` (CV_8UC1 0/255 of its size; 8-connected edge).
 cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box);
 
+/// The outer outline of `mask`'s (CV_8UC1) largest region by area, in image coordinates (`mask` lies at `origin`);
+/// empty when it has none of at least 3 points.
+std::vector<cv::Point> largestOutline(const cv::Mat& mask, const cv::Point& origin);
+
 /// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too; either may lie
 /// inside the other).
 bool hueNeighbours(const ColourClass& a, const ColourClass& b);
