@@ -348,6 +348,8 @@ TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
   EXPECT_TRUE(r.objects.empty());  // not two buoys at confident, wrong ranges
   int swapped = 0;
   for (const Rejection& rejected : r.rejected) {
+    // Whatever stereo turned down (second views too) was matched the wrong way round as well.
+    EXPECT_FALSE(turnedDownByStereo(rejected.stage)) << rejected.reason;
     if (rejected.stage != RejectionStage::kLeftRightSwapped) continue;
     ++swapped;
     EXPECT_NE(rejected.reason.find("swapped"), std::string::npos) << rejected.reason;

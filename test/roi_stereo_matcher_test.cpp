@@ -231,6 +231,42 @@ TEST(RoiStereoMatcher, AWindowThatMissedTheObjectsDisparityGivesWayToTheWholeWor
   EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
+/// A grey view tinted: each pixel's grey g as (b, g, r) = g * `tint`.
+cv::Mat tinted(const cv::Mat& grey, const cv::Vec3f& tint) {
+  cv::Mat f, out;
+  grey.convertTo(f, CV_32F);
+  cv::merge(std::vector<cv::Mat>{f * tint[0], f * tint[1], f * tint[2]}, out);
+  out.convertTo(out, CV_8UC3);
+  return out;
+}
+
+TEST(RoiStereoMatcher, PointsTheRightCameraSeesInAnotherColourAreDropped) {
+  // The textured panel at 2 m, reddish in the left view; the right view shows the same texture (block matching
+  // finds it) in a green of the same luma: what a far object hidden from the right camera by a nearer one of
+  // another colour gives. Seen red by both, or grey by either, every point stays.
+  const GreyPair pair = panelAt(2.0);
+  const cv::Vec3f red(0.4F, 0.4F, 1.0F), green(0.4F, 0.7056F, 0.4F);  // BGR; luma 0.579 g either way
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const cv::Rect roi(300, 180, 60, 50);
+  const cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(255));
+  const RoiPoints same = matcher.match(tinted(pair.left, red), tinted(pair.right, red), roi, mask);
+  ASSERT_GT(same.points.size(), 500U);
+  EXPECT_EQ(same.other_colour_points, 0);
+  EXPECT_NEAR(medianDepth(same), 2.0, 0.02);
+  const RoiPoints other = matcher.match(tinted(pair.left, red), tinted(pair.right, green), roi, mask);
+  EXPECT_GT(other.matched_pixels, 0.9 * other.mask_pixels);  // block matching found the texture ...
+  EXPECT_TRUE(other.points.empty());                          // ... in another colour
+  EXPECT_EQ(other.other_colour_points, static_cast<int>(same.points.size()));
+  const RoiPoints grey_right = matcher.match(tinted(pair.left, red), pair.right, roi, mask);
+  EXPECT_EQ(grey_right.points.size(), same.points.size());
+  StereoMatchConfig never;
+  never.max_colour_difference = 1;
+  EXPECT_EQ(RoiStereoMatcher(pair.calibration, never)
+                .match(tinted(pair.left, red), tinted(pair.right, green), roi, mask)
+                .points.size(),
+            same.points.size());
+}
+
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
   const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});

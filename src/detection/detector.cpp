@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iomanip>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -611,14 +612,15 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   workOnThreads(m, config_.pair_threads, [&](int i) {
     second[i] = measureOne(*front.second_views[retried[i]], second_times[i], second_why[i], &evidence[n + i], check_use);
   });
+  std::vector<Rejection> set_aside;  // views turned down that a second view replaced, and second views turned down
   for (int i = 0; i < m; ++i) {
     const int k = retried[i];
     addObjectStages(result.timings, second_times[i]);
     if (!second[i]) {
-      result.rejected.push_back(std::move(second_why[i]));
+      set_aside.push_back(std::move(second_why[i]));
       continue;
     }
-    result.rejected.push_back(std::move(why[k]));
+    set_aside.push_back(std::move(why[k]));
     found[k] = std::move(second[i]);
     front.candidates[k] = std::move(*front.second_views[retried[i]]);
   }
@@ -629,18 +631,23 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                std::to_string(n) + " objects' views lie right of their left ones in the right image, " +
                                std::to_string(pair_order.silhouettes) +
                                " found their silhouette where it should be (left and right images the wrong way round?)";
-    // Every object stereo measured or turned down was matched the wrong way round (a point the two cameras see in
+    // Every view stereo measured or turned down was matched the wrong way round (a point the two cameras see in
     // other colours is dropped, so a swapped pair's objects may be turned down for too few points).
+    const auto swapped = [&reason](Rejection& r) {
+      if (!turnedDownByStereo(r.stage)) return;
+      r.stage = RejectionStage::kLeftRightSwapped;
+      r.reason = reason;
+    };
     for (int k = 0; k < n; ++k) {
       if (found[k]) {
         why[k] = Rejection{found[k]->roi, found[k]->colour, found[k]->confidence, RejectionStage::kLeftRightSwapped,
                            reason};
         found[k].reset();
-      } else if (turnedDownByStereo(why[k].stage)) {
-        why[k].stage = RejectionStage::kLeftRightSwapped;
-        why[k].reason = reason;
+      } else {
+        swapped(why[k]);
       }
     }
+    for (Rejection& r : set_aside) swapped(r);
   } else {
     joinPieces(front.candidates, config_.colours.classes, found, why, times,
                [&](const Candidate& c, StageTimings& t, Rejection& r) {
@@ -654,6 +661,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                left.size(),
                kPieceGapInEps * config_.cluster.eps_m);
   }
+  std::move(set_aside.begin(), set_aside.end(), std::back_inserter(result.rejected));
   for (int k = 0; k < n; ++k) {
     addObjectStages(result.timings, times[k]);
     if (found[k]) {

@@ -143,7 +143,7 @@ const std::vector<DetectorTunable>& detectorTunables() {
        UWS_INT(stereo.erode_px)},
       {"stereo", "max_points", 10, 1000000, nullptr, "Mask pixels sampled to at most about this many points",
        UWS_INT(stereo.max_points)},
-      {"stereo", "max_colour_difference", 0, 1, nullptr,
+      {"stereo", "max_colour_difference", 0, 1, "max_colour_difference",
        "A point the two cameras see this far apart in chromaticity is dropped (a nearer object hides it; 1: never)",
        UWS_REAL(stereo.max_colour_difference)},
       {"cluster", "eps_m", 0.001, 1, "cluster_eps_m",

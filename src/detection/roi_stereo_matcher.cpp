@@ -59,21 +59,29 @@ constexpr double kMaxWindowEdgeShare = 0.3;
 /// numDisparities, must be a multiple).
 constexpr int kDisparityStep = 16;
 
-/// A raw frame's colour at `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B and mean G,
-/// no demosaicing) averaged over 3x3 cells, so about 6x6 pixels around each point.
+/// Channels summing under this are too dark to tell one chromaticity from another (chromaDistance).
+constexpr float kMinChromaSum = 30;
+
+/// A raw frame's colour around each of `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B
+/// and mean G, no demosaicing) averaged over 3x3 cells, so about 6x6 pixels. A point outside the frame is not read:
+/// its colour stays black, too dark to tell (chromaDistance 0).
 std::vector<cv::Vec3f> coloursAround(const RawFrame& frame, const std::vector<cv::Point>& at) {
   std::vector<cv::Vec3f> out(at.size());
-  if (at.empty()) return out;
-  cv::Rect box = cv::boundingRect(at);
-  box = cv::Rect((box.x - 4) & ~1, (box.y - 4) & ~1, box.width + 10, box.height + 10) &
-        cv::Rect(0, 0, frame.size().width & ~1, frame.size().height & ~1);
+  const cv::Rect whole(0, 0, frame.size().width & ~1, frame.size().height & ~1);  // on whole 2x2 cells
+  std::vector<cv::Point> inside;
+  for (const cv::Point& p : at) {
+    if (whole.contains(p)) inside.push_back(p);
+  }
+  if (inside.empty()) return out;
+  cv::Rect box = cv::boundingRect(inside);
+  box = cv::Rect((box.x - 4) & ~1, (box.y - 4) & ~1, box.width + 10, box.height + 10) & whole;
   box.width &= ~1;
   box.height &= ~1;
-  if (box.empty()) return out;
   cv::Mat half;
   cv::blur(frame.halfSizeBgr(box), half, cv::Size(3, 3), cv::Point(-1, -1), cv::BORDER_REPLICATE);
   for (std::size_t i = 0; i < at.size(); ++i) {
-    const int x = std::clamp((at[i].x - box.x) / 2, 0, half.cols - 1), y = std::clamp((at[i].y - box.y) / 2, 0, half.rows - 1);
+    if (!whole.contains(at[i])) continue;
+    const int x = std::min((at[i].x - box.x) / 2, half.cols - 1), y = std::min((at[i].y - box.y) / 2, half.rows - 1);
     out[i] = half.at<cv::Vec3b>(y, x);
   }
   return out;
@@ -81,7 +89,6 @@ std::vector<cv::Vec3f> coloursAround(const RawFrame& frame, const std::vector<cv
 
 /// How far apart two colours' chromaticities lie: half the summed absolute difference of their channels' shares
 /// (0 alike, 1 disjoint); 0 when either is too dark to tell (channels summing under kMinChromaSum).
-constexpr float kMinChromaSum = 30;
 float chromaDistance(const cv::Vec3f& a, const cv::Vec3f& b) {
   const float sa = a[0] + a[1] + a[2], sb = b[0] + b[1] + b[2];
   if (sa < kMinChromaSum || sb < kMinChromaSum) return 0;
@@ -479,7 +486,12 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
     }
   }
   // A point the two cameras see in other colours was matched onto something else: most often a nearer object that
-  // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours").
+  // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours"). Not
+  // where either frame is grey, or at a limit of 1 or more.
+  if (config_.max_colour_difference >= 1 || !carriesColour(left.layout()) || !carriesColour(right.layout())) {
+    out.points = std::move(points);
+    return;
+  }
   const std::vector<cv::Vec3f> left_colour = coloursAround(left, left_at), right_colour = coloursAround(right, right_at);
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (chromaDistance(left_colour[i], right_colour[i]) <= config_.max_colour_difference) {

@@ -71,7 +71,7 @@ OutlineKind classifyOutline(const std::vector<cv::Point>& contour);
 cv::Mat filledOutline(const std::vector<cv::Point>& contour, const cv::Rect& box);
 
 /// The outer outline of `mask`'s (CV_8UC1) largest region by area, in image coordinates (`mask` lies at `origin`);
-/// empty when it has none of at least 3 points.
+/// empty when there is none or that largest one has fewer than 3 points.
 std::vector<cv::Point> largestOutline(const cv::Mat& mask, const cv::Point& origin);
 
 /// True when the hue ranges of two colour classes touch or overlap (within 2 hue units, through 0 too; either may lie

@@ -58,7 +58,8 @@ struct DetectionResult {
   /// few 3D points, wrong metric size for its colour...).
   std::vector<Rejection> rejected;
   /// The pair looks as if its left and right images came swapped (stereo_order.h, PairOrder): none of its
-  /// objects is reported; those that would have been are rejected as RejectionStage::kLeftRightSwapped.
+  /// objects is reported; those that would have been, and those stereo turned down, are rejected as
+  /// RejectionStage::kLeftRightSwapped.
   bool looks_swapped = false;
   /// The scale the 2D search ran at: search_scale, or a dark frame's (dark_search_width_px, learned source).
   double search_scale = 0.0;

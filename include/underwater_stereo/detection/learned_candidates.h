@@ -84,7 +84,8 @@ struct Rejection {
   cv::Rect roi;          ///< raw image pixels
   std::string colour;    ///< the colour it was taken for (empty: none)
   /// How sure what turned it down was of it: the colour search's confidence; for kCheckAfterStereo the check's
-  /// object score; for kPieceOfObject and kLeftRightSwapped the confidence it would have been reported with.
+  /// object score; for kPieceOfObject and kLeftRightSwapped the confidence it would have been reported with (one
+  /// stereo turned down in a pair taken for swapped keeps what turned it down).
   double confidence = 0;
   RejectionStage stage = RejectionStage::kColourUncertain;
   std::string reason;    ///< the stage's particulars, for a person

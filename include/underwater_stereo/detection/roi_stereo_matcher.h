@@ -7,7 +7,7 @@
 /// workspace's disparity range), then only the band of rows it covers is rectified (both cameras, only
 /// the raw pixels the band reads are converted to grey), matched with semi-global block matching over the
 /// disparities of the object's expected depth relief around the silhouette's, and its pixels reprojected
-/// to 3D.
+/// to 3D, but those the two raw frames show in other colours (StereoMatchConfig::max_colour_difference).
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -32,8 +32,9 @@ struct StereoMatchConfig {
   int erode_px = 3;            ///< shrink the object's mask by this much (disparities at its edge are unreliable)
   int max_points = 1500;       ///< mask pixels are sampled on a grid to at most about this many points
   /// A sampled point whose colour the two cameras see this far apart (chromaticity: half the summed absolute
-  /// difference of the channels' shares, around 6x6 raw pixels; 0-1) was matched onto something else, most often a
-  /// nearer object hiding it from the right camera: it is dropped (1: never).
+  /// difference of the channels' shares, around 6x6 raw pixels; 0-1) was matched onto something else, most often
+  /// a nearer object hiding it from the right camera: it is dropped (1: never; nor where either frame is grey, or
+  /// too dark to tell there, or the match lies outside either raw frame).
   double max_colour_difference = 0.05;
 
   std::vector<std::string> validate() const;
@@ -43,8 +44,10 @@ struct StereoMatchConfig {
 struct RoiPoints {
   std::vector<Eigen::Vector3f> points;  ///< [m]
   int mask_pixels = 0;                  ///< object pixels in the rectified band (after erosion)
-  int matched_pixels = 0;               ///< of those, with a valid disparity inside the workspace (and the right image)
-  /// Sampled points dropped because the right camera sees them in another colour (StereoMatchConfig::max_colour_difference).
+  /// Of those, with a valid disparity inside the workspace (and the right image), before the colour check.
+  int matched_pixels = 0;
+  /// Sampled points dropped because the right camera sees them in another colour
+  /// (StereoMatchConfig::max_colour_difference).
   int other_colour_points = 0;
   /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
   /// and right colour masks (sub-pixel, from the masks' column profiles). A sphere's outline is the tangent
@@ -61,7 +64,7 @@ struct RoiPoints {
   /// so the whole workspace was searched (searched_disparities counts that search).
   bool window_missed = false;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
-  /// mask), block matching, reprojecting the mask's pixels.
+  /// mask), block matching, reprojecting the mask's pixels (with the colour check).
   double rectify_ms = 0, matching_ms = 0, reprojection_ms = 0;
 };
 
@@ -72,7 +75,8 @@ class RoiStereoMatcher {
 
   /// Matches the object given by `mask` (CV_8UC1 the size of `roi`, raw left image coordinates).
   /// `left`/`right` are raw (distorted) frames of the calibrated size (only the pixels the bands read are
-  /// converted to grey). `right_colour` (optional: empty to skip) is the raw right
+  /// converted to grey; the colour check reads both at half size around the sampled points). `right_colour`
+  /// (optional: empty to skip) is the raw right
   /// frame's mask of the designated colours, for the silhouette disparity: the whole frame, or a part of it
   /// at `right_colour_origin` holding at least rightColourRegion(roi). `left_colour` (optional, CV_8UC1 the
   /// size of `roi`): the left frame's mask cut as `right_colour` was, read for the left silhouette instead of
