@@ -462,8 +462,13 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
   const double cx = calibration_.left.P(0, 2), cy = calibration_.left.P(1, 2);
+  // A point the two cameras see in other colours was matched onto something else: most often a nearer object that
+  // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours"). Not
+  // checked where either frame is grey, or at a limit of 1 or more.
+  const bool check_colour =
+      config_.max_colour_difference < 1 && carriesColour(left.layout()) && carriesColour(right.layout());
   std::vector<Eigen::Vector3f> points;
-  std::vector<cv::Point> left_at, right_at;  // each point's raw pixel in either frame
+  std::vector<cv::Point> left_at, right_at;  // each point's raw pixel in either frame, when checked
   for (int v = 0; v < mask_band.rows; ++v) {
     const auto* m = mask_band.ptr<std::uint8_t>(v);
     const auto* d = disparity16.ptr<short>(v);
@@ -478,6 +483,7 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
       const cv::Vec3d rect((u + band.left.x - cx) * z / f, (v + band.left.y - cy) * z / f, z);
       const cv::Vec3d raw = left_r_transposed_ * rect;
       points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
+      if (!check_colour) continue;
       const int row = v + band.left.y, right_column = static_cast<int>(std::lround(u + band.left.x - disparity));
       const cv::Vec2s l = left_map_xy_.at<cv::Vec2s>(row, u + band.left.x);
       const cv::Vec2s r = right_map_xy_.at<cv::Vec2s>(row, std::min(right_column, right_map_xy_.cols - 1));
@@ -485,10 +491,7 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
       right_at.emplace_back(r[0], r[1]);
     }
   }
-  // A point the two cameras see in other colours was matched onto something else: most often a nearer object that
-  // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours"). Not
-  // where either frame is grey, or at a limit of 1 or more.
-  if (config_.max_colour_difference >= 1 || !carriesColour(left.layout()) || !carriesColour(right.layout())) {
+  if (!check_colour) {
     out.points = std::move(points);
     return;
   }
