@@ -199,14 +199,16 @@ constexpr double kPieceGapInEps = 4.0;
 constexpr double kTwoColourPieceOverlap = 0.3;
 
 /// The pieces of one object are measured as the region they stood in place of only when they cover this much of it
-/// as it is measured (cut again at its edge, which may take in more than its pieces: the floor around them); else as
-/// their union. Pieces cut from a region cover all of it but the steps between them; not tuned.
+/// as it is measured (shareCovered; cut again at its edge, it may take in more than its pieces: the floor around
+/// them); else as their union. Pieces cut from a region cover all of it but the steps between them; not tuned.
 constexpr double kPiecesCoverTheirRegion = 0.75;
 
 /// Pieces of one object measured again as the one region they make together: the region they stood in place of
-/// (`whole_of` into `wholes`, FrontEnd::whole_of) when the group holds every candidate that stood in its place and
-/// covers most of it (kPiecesCoverTheirRegion), else their union (joinedCandidate). The joined detection takes the first piece's place and the others are reported as
-/// rejected, naming it; when the joined region cannot be measured the pieces stay as they were.
+/// (`whole_of` into `wholes`, FrontEnd::whole_of) when the group is exactly the candidates that stood in its place
+/// (regionOfPieces) and covers most of it (kPiecesCoverTheirRegion), else their union (joinedCandidate). The region,
+/// no piece, is placed at its silhouette's depth and keeps its own outline and face contrast; either way the joined
+/// detection is named as the group's surest piece of its colour. It takes the first piece's place and the others are
+/// reported as rejected, naming it; when the joined region cannot be measured the pieces stay as they were.
 template <typename MeasureOne>
 void joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
                 const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
@@ -248,15 +250,10 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>
     for (const Candidate& c : in_colour) pieces.push_back(&c);
     const int first = index[group.front()];
     Candidate whole = joinedCandidate(pieces, frame);
-    const int region = whole_of.empty() ? -1 : whole_of[first];
-    const auto in_group = [&](int k) {
-      return std::any_of(group.begin(), group.end(), [&](int g) { return index[g] == k; });
-    };
-    bool all_its_pieces = region >= 0;
-    for (int k = 0; k < static_cast<int>(whole_of.size()) && all_its_pieces; ++k) {
-      all_its_pieces = (whole_of[k] == region) == in_group(k);
-    }
-    if (all_its_pieces && cv::countNonZero(whole.mask) >= kPiecesCoverTheirRegion * cv::countNonZero(wholes[region].mask)) {
+    std::vector<int> members;  // the group as candidate indices
+    for (int g : group) members.push_back(index[g]);
+    const int region = whole_of.empty() ? -1 : regionOfPieces(members, whole_of);
+    if (region >= 0 && shareCovered(whole, wholes[region]) >= kPiecesCoverTheirRegion) {
       // The region as it was cut, named as its surest piece of the group's colour.
       Candidate described = std::move(whole);
       whole = wholes[region];

@@ -107,8 +107,10 @@ constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 /// Which regions stand for their objects, and the region each piece stands in place of. A region that holds
 /// pieces (BlobProposal::piece, named with their own votes: `own_needed`) of two colours, or with kPiecesStand two
 /// pieces of one colour that are not one region (sameRegion), may hold two objects: its pieces stand for it and it
-/// does not, and each such piece records the most confident region it stands in place of (`whole`, -1 for none), for
-/// the detector to measure whole when its pieces prove one object in 3D (joinPieces). A piece cut from a region (its box inside the
+/// does not; with kPiecesStand each such piece records the most confident region it stands in place of (`whole`, -1
+/// for none; a region that records none never stands, so it is never moved from), for the detector to measure whole
+/// when its pieces prove one object in 3D (joinPieces; two pieces of one object that name different regions are
+/// measured as their union). A piece cut from a region (its box inside the
 /// region's) and named with its own votes a colour other than the region's (an object touching a distractor, the
 /// region named after their mixture) stands besides the region, the more confident of the two taken
 /// (findLearnedCandidates); any other piece does not (the region it was cut from names its object).
@@ -148,7 +150,10 @@ Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector
       const bool cut_from_it = (regions[p].roi & regions[i].roi).area() >= kPieceInside * regions[p].roi.area();
       if (two_objects || (cut_from_it && verdicts[p].colour != verdicts[i].colour)) out.stands[p] = true;
       int& whole = out.whole[p];
-      if (two_objects && (whole < 0 || verdicts[i].confidence > verdicts[whole].confidence)) whole = static_cast<int>(i);
+      if (two_objects && one_colour == OneColourPieces::kPiecesStand &&
+          (whole < 0 || verdicts[i].confidence > verdicts[whole].confidence)) {
+        whole = static_cast<int>(i);
+      }
     }
   }
   return out;
@@ -245,7 +250,8 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   };
   std::vector<Named> named;
   std::vector<ColourVerdict> verdicts = config.model->classify(featureRows(proposed.regions));
-  // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects.
+  // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects (or, in
+  // one colour, one object cut in two: standingFor).
   std::vector<BlobProposal> pieces;
   {
     std::vector<const BlobProposal*> to_cut;  // into proposed.regions, which the pieces join below
@@ -318,15 +324,14 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     out.candidates.push_back(candidateOf(n));
     out.second_views.emplace_back();
     out.whole_of.push_back(-1);
-    if (n.whole >= 0) {  // the region a piece stands in place of, described once for all its pieces
+    if (n.whole >= 0) {  // the region a piece stands in place of (it never stands: not moved from), described once
       const auto known = std::find(whole_regions.begin(), whole_regions.end(), n.whole);
+      out.whole_of.back() = static_cast<int>(known - whole_regions.begin());
       if (known == whole_regions.end()) {
         Named region{proposed.regions[n.whole], verdicts[n.whole]};
         out.wholes.push_back(candidateOf(region));
         whole_regions.push_back(n.whole);
       }
-      out.whole_of.back() = static_cast<int>(std::find(whole_regions.begin(), whole_regions.end(), n.whole) -
-                                             whole_regions.begin());
     }
   }
   return out;

@@ -102,6 +102,9 @@ struct LearnedSearch {
   /// pieces of one: two objects, or one cut in two), that region as an index into `wholes`, else -1: what the
   /// detector measures when all of that region's pieces prove one object in 3D (joinPieces), in place of their union.
   std::vector<int> whole_of;
+  /// Those regions, described as candidates are (searched-image pixels; the detector's FrontEnd holds them at full
+  /// resolution); colour_index is the region's own colour (-1 where none is designated), which the detector replaces
+  /// by its pieces'.
   std::vector<Candidate> wholes;
   std::vector<Rejection> rejected;    ///< proposals some colour got votes for, not reported (searched-image pixels)
 };
