@@ -107,13 +107,13 @@ constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 /// Which regions stand for their objects, and the region each piece stands in place of. A region that holds
 /// pieces (BlobProposal::piece, named with their own votes: `own_needed`) of two colours, or with kPiecesStand two
 /// pieces of one colour that are not one region (sameRegion), may hold two objects: its pieces stand for it and it
-/// does not; with kPiecesStand each such piece records the most confident region it stands in place of (`whole`, -1
-/// for none; a region that records none never stands, so it is never moved from), for the detector to measure whole
-/// when its pieces prove one object in 3D (joinPieces; two pieces of one object that name different regions are
-/// measured as their union). A piece cut from a region (its box inside the
-/// region's) and named with its own votes a colour other than the region's (an object touching a distractor, the
-/// region named after their mixture) stands besides the region, the more confident of the two taken
-/// (findLearnedCandidates); any other piece does not (the region it was cut from names its object).
+/// does not. With kPiecesStand each such piece records the most confident region it stands in place of (`whole`, -1
+/// for none; a region so recorded never stands, so findLearnedCandidates never moves from it), for the detector to
+/// measure whole when its pieces prove one object in 3D (joinPieces; two pieces of one object that record different
+/// regions are measured as their union). A piece cut from a region (its box inside the region's) and named with its
+/// own votes a colour other than the region's (an object touching a distractor, the region named after their
+/// mixture) stands besides the region, the more confident of the two taken (findLearnedCandidates); any other piece
+/// does not (the region it was cut from names its object).
 struct Standing {
   std::vector<bool> stands;
   std::vector<int> whole;
