@@ -55,10 +55,6 @@ struct FrontEnd {
   /// learned source: for each candidate, the view measured in its place when it is turned down after stereo
   /// (LearnedSearch::second_views; empty otherwise)
   std::vector<std::optional<Candidate>> second_views;
-  /// learned source: the region each candidate stands in place of as its piece, into `wholes`, else -1
-  /// (LearnedSearch::whole_of; empty otherwise)
-  std::vector<int> whole_of;
-  std::vector<Candidate> wholes;
   std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
 };
 
@@ -198,20 +194,11 @@ constexpr double kPieceGapInEps = 4.0;
 /// red and yellow pieces through an orange one touching both.
 constexpr double kTwoColourPieceOverlap = 0.3;
 
-/// The pieces of one object are measured as the region they stood in place of only when they cover this much of it
-/// as it is measured (shareCovered; cut again at its edge, it may take in more than its pieces: the floor around
-/// them); else as their union. Pieces cut from a region cover all of it but the steps between them; not tuned.
-constexpr double kPiecesCoverTheirRegion = 0.75;
-
-/// Pieces of one object measured again as the one region they make together: the region they stood in place of
-/// (`whole_of` into `wholes`, FrontEnd::whole_of) when the group is exactly the candidates that stood in its place
-/// (regionOfPieces) and covers most of it (kPiecesCoverTheirRegion), else their union (joinedCandidate). The region,
-/// no piece, is placed at its silhouette's depth and keeps its own outline and face contrast; either way the joined
-/// detection is named as the group's surest piece of its colour. It takes the first piece's place and the others are
-/// reported as rejected, naming it; when the joined region cannot be measured the pieces stay as they were.
+/// Pieces of one object measured again as the one region they make together. The joined
+/// detection takes the first piece's place and the others are reported as rejected, naming it; when the joined
+/// region cannot be measured the pieces stay as they were.
 template <typename MeasureOne>
-void joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
-                const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
+void joinPieces(const std::vector<Candidate>& candidates, const std::vector<ColourClass>& classes,
                 std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why, std::vector<StageTimings>& times,
                 MeasureOne&& measureOne, const cv::Size& frame, double gap_m) {
   std::vector<int> index, colours;  // colours: of the reported detections, as class indices
@@ -249,21 +236,9 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>
     std::vector<const Candidate*> pieces;
     for (const Candidate& c : in_colour) pieces.push_back(&c);
     const int first = index[group.front()];
-    Candidate whole = joinedCandidate(pieces, frame);
-    std::vector<int> members;  // the group as candidate indices
-    for (int g : group) members.push_back(index[g]);
-    const int region = whole_of.empty() ? -1 : regionOfPieces(members, whole_of);
-    if (region >= 0 && shareCovered(whole, wholes[region]) >= kPiecesCoverTheirRegion) {
-      // The region as it was cut, named as its surest piece of the group's colour.
-      Candidate described = std::move(whole);
-      whole = wholes[region];
-      whole.colour_index = described.colour_index;
-      whole.colour_fraction = described.colour_fraction;
-      whole.colour_features = std::move(described.colour_features);
-    }
     StageTimings t;
     Rejection rejected;
-    std::optional<Detection> joined = measureOne(whole, t, rejected);
+    std::optional<Detection> joined = measureOne(joinedCandidate(pieces, frame), t, rejected);
     addObjectStages(times[first], t);
     if (!joined) continue;
     // As sure as its surest piece of that colour (the check may score the whole lower than each piece).
@@ -324,10 +299,9 @@ LearnedColourConfig learnedSearchFor(const DetectorConfig& config, const Quality
 }
 
 /// Quality and candidates of `frame`; `search`: the settings scaled for search_scale; `for_check`: the learned
-/// search passes what the check after stereo is to judge; `one_colour`: what stands for a region cut into pieces of
-/// one colour (kPiecesStand where stereo measures them).
+/// search passes what the check after stereo is to judge.
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
-                     Stopwatch& watch, bool for_check, OneColourPieces one_colour) {
+                     Stopwatch& watch, bool for_check) {
   FrontEnd out;
   const cv::Mat small = scaleForSearch(frame, config, search, out);
   t.quality_ms = watch.lapMs();
@@ -337,7 +311,7 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     // enhancement or white balance before it.
     out.searched = blurredForSearch(small, *out.search);
     LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, learnedSearchFor(config, out.quality),
-                                                out.search->candidates, config.pair_threads, for_check, one_colour);
+                                                out.search->candidates, config.pair_threads, for_check);
     t.colour_ms = watch.lapMs();
     out.contrast = std::move(found.contrast);
     for (Candidate& c : found.candidates) {
@@ -347,8 +321,6 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
       out.second_views.push_back(c ? std::optional<Candidate>(toFullResolution(std::move(*c), out.scale, frame.size()))
                                    : std::nullopt);
     }
-    out.whole_of = std::move(found.whole_of);
-    for (Candidate& c : found.wholes) out.wholes.push_back(toFullResolution(std::move(c), out.scale, frame.size()));
     for (Rejection& r : found.rejected) {
       r.roi = scaledRect(r.roi, 1.0 / out.scale);
       out.rejected.push_back(std::move(r));
@@ -441,8 +413,7 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   requireImageSize(frame.size(), config_.search_scale, "Detector::detect2d");
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front =
-      runFrontEnd(frame, config_, search_config_, result.timings, watch, false, OneColourPieces::kRegionStands);
+  const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch, false);
   result.quality = front.quality;
   result.search_scale = front.scale;
   result.rejected = front.rejected;
@@ -557,8 +528,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   DetectionResult result;
   Stopwatch watch, total;
   FrontEnd front =
-      runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr,
-                  OneColourPieces::kPiecesStand);
+      runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
   result.quality = front.quality;
   result.search_scale = front.scale;
   result.rejected = front.rejected;
@@ -653,7 +623,6 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     set_aside.push_back(std::move(why[k]));
     found[k] = std::move(second[i]);
     front.candidates[k] = std::move(*front.second_views[retried[i]]);
-    if (!front.whole_of.empty()) front.whole_of[k] = -1;
   }
   const PairOrder pair_order = pairOrder(evidence);
   result.looks_swapped = pair_order.looksSwapped();
@@ -680,7 +649,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     }
     for (Rejection& r : set_aside) swapped(r);
   } else {
-    joinPieces(front.candidates, front.whole_of, front.wholes, config_.colours.classes, found, why, times,
+    joinPieces(front.candidates, config_.colours.classes, found, why, times,
                [&](const Candidate& c, StageTimings& t, Rejection& r) {
                  // Each piece passed the check and its colour is theirs: the check neither turns the joined region
                  // down nor renames it.
