@@ -96,5 +96,38 @@ TEST(ObjectPieces, JoinedRegionIsTheUnionOfThePieces) {
   EXPECT_EQ(cut.roi, cv::Rect(610, 450, 30, 30));
 }
 
+// The region pieces stood in place of is theirs only when the group is exactly the candidates that stood in its place.
+TEST(ObjectPieces, TheRegionOfPiecesIsTheOneTheyAllAndOnlyTheyStoodFor) {
+  const std::vector<int> whole_of{-1, 0, 0, 1, 0};
+  EXPECT_EQ(regionOfPieces({1, 2, 4}, whole_of), 0);
+  EXPECT_EQ(regionOfPieces({1, 2}, whole_of), -1);        // one of its pieces is not in the group (another object?)
+  EXPECT_EQ(regionOfPieces({1, 2, 3, 4}, whole_of), -1);  // the group holds a piece of another region
+  EXPECT_EQ(regionOfPieces({0, 3}, whole_of), -1);        // the first stood for none
+  EXPECT_EQ(regionOfPieces({3}, whole_of), 1);
+  EXPECT_EQ(regionOfPieces({}, whole_of), -1);
+  EXPECT_THROW(regionOfPieces({1, 2, 4}, {}), std::invalid_argument) << "whole_of must cover the group";
+  EXPECT_THROW(regionOfPieces({1, 5}, whole_of), std::invalid_argument);
+  EXPECT_THROW(regionOfPieces({-1}, whole_of), std::invalid_argument);
+}
+
+// The share of a region's pixels its pieces cover counts pixels both hold (soft edges from 128 on), not areas alone.
+TEST(ObjectPieces, PiecesCoverTheShareOfTheirRegionsPixelsTheyHold) {
+  const Candidate region = disc(cv::Point(100, 100), 40, 0.8, cv::Scalar());
+  EXPECT_NEAR(shareCovered(region, region), 1.0, 1e-12);
+  // The top half (rows above the centre) covers about half.
+  Candidate top = region;
+  top.mask = region.mask.clone();
+  top.mask(cv::Rect(0, 40, top.roi.width, top.roi.height - 40)).setTo(0);
+  EXPECT_NEAR(shareCovered(top, region), 0.5, 0.03);
+  // As large as the region but beside it: covers nothing, though its area is the region's.
+  Candidate beside = disc(cv::Point(300, 100), 40, 0.8, cv::Scalar());
+  EXPECT_DOUBLE_EQ(shareCovered(beside, region), 0.0);
+  // Faint edge pixels (under 128) count for neither.
+  Candidate faint = region;
+  faint.mask = region.mask / 4;
+  EXPECT_DOUBLE_EQ(shareCovered(faint, region), 0.0);
+  EXPECT_DOUBLE_EQ(shareCovered(region, faint), 0.0) << "a region without pixels is covered by nothing";
+}
+
 }  // namespace
 }  // namespace underwater_stereo

@@ -448,3 +448,21 @@ TEST(Tracker, ADetectionNextToANearerOneIsNotUsed) {
   f.stamp_s = 0.1;
   EXPECT_NE(tracker.update(f).track_ids[1], 0U);
 }
+
+TEST(Tracker, TheNearerOfTwoOfOneColourThatCloseIsNotUsedEither) {
+  Tracker tracker(TrackingConfig{});
+  TrackingFrame f;
+  // Two red buoys 0.05 m apart in the image at 2 m: in the right camera they may make one silhouette, which puts the
+  // near one's depth off as well as the far one's.
+  Observation near = observation("red", {-0.05, 0, 2.0}), far = observation("red", {0.2, 0, 3.5});
+  near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
+  f.observations = {near, far};
+  TrackingUpdate u = tracker.update(f);
+  EXPECT_EQ(u.track_ids[0], 0U);
+  EXPECT_EQ(u.track_ids[1], 0U);
+  f.observations[1].position_m.x() = 0.6;  // well apart
+  f.stamp_s = 0.1;
+  u = tracker.update(f);
+  EXPECT_NE(u.track_ids[0], 0U);
+  EXPECT_NE(u.track_ids[1], 0U);
+}

@@ -55,6 +55,10 @@ struct FrontEnd {
   /// learned source: for each candidate, the view measured in its place when it is turned down after stereo
   /// (LearnedSearch::second_views; empty otherwise)
   std::vector<std::optional<Candidate>> second_views;
+  /// learned source: the region each candidate stands in place of as its piece, into `wholes`, else -1
+  /// (LearnedSearch::whole_of; empty otherwise)
+  std::vector<int> whole_of;
+  std::vector<Candidate> wholes;
   std::vector<Rejection> rejected;   ///< learned source: what the colour model did not report (raw pixels)
 };
 
@@ -194,13 +198,24 @@ constexpr double kPieceGapInEps = 4.0;
 /// red and yellow pieces through an orange one touching both.
 constexpr double kTwoColourPieceOverlap = 0.3;
 
-/// Pieces of one object measured again as the one region they make together. The joined
-/// detection takes the first piece's place and the others are reported as rejected, naming it; when the joined
-/// region cannot be measured the pieces stay as they were.
+/// The pieces of one object are measured as the region they stood in place of only when they cover this much of it
+/// as it is measured (shareCovered; cut again at its edge, it may take in more than its pieces: the floor around
+/// them); else as their union. Pieces cut from a region cover all of it but the steps between them; not tuned.
+constexpr double kPiecesCoverTheirRegion = 0.75;
+
+/// Pieces of one object measured again as the one region they make together: the region they stood in place of
+/// (`whole_of` into `wholes`, FrontEnd::whole_of) when the group is exactly the candidates that stood in its place
+/// (regionOfPieces) and covers most of it (kPiecesCoverTheirRegion), else their union (joinedCandidate). The region,
+/// no piece, is placed at its silhouette's depth and keeps its own outline and face contrast; either way the joined
+/// detection is named as the group's surest piece of its colour. It takes the first piece's place and the others are
+/// reported as rejected, naming it; when the joined region cannot be measured the pieces stay as they were.
+/// @return for each candidate, whether its detection is now such a joined one
 template <typename MeasureOne>
-void joinPieces(const std::vector<Candidate>& candidates, const std::vector<ColourClass>& classes,
+std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
+                const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
                 std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why, std::vector<StageTimings>& times,
                 MeasureOne&& measureOne, const cv::Size& frame, double gap_m) {
+  std::vector<bool> joined_here(found.size(), false);
   std::vector<int> index, colours;  // colours: of the reported detections, as class indices
   std::vector<std::vector<Eigen::Vector3f>> clusters;
   for (int k = 0; k < static_cast<int>(found.size()); ++k) {
@@ -236,9 +251,21 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
     std::vector<const Candidate*> pieces;
     for (const Candidate& c : in_colour) pieces.push_back(&c);
     const int first = index[group.front()];
+    Candidate whole = joinedCandidate(pieces, frame);
+    std::vector<int> members;  // the group as candidate indices
+    for (int g : group) members.push_back(index[g]);
+    const int region = whole_of.empty() ? -1 : regionOfPieces(members, whole_of);
+    if (region >= 0 && shareCovered(whole, wholes[region]) >= kPiecesCoverTheirRegion) {
+      // The region as it was cut, named as its surest piece of the group's colour.
+      Candidate described = std::move(whole);
+      whole = wholes[region];
+      whole.colour_index = described.colour_index;
+      whole.colour_fraction = described.colour_fraction;
+      whole.colour_features = std::move(described.colour_features);
+    }
     StageTimings t;
     Rejection rejected;
-    std::optional<Detection> joined = measureOne(joinedCandidate(pieces, frame), t, rejected);
+    std::optional<Detection> joined = measureOne(whole, t, rejected);
     addObjectStages(times[first], t);
     if (!joined) continue;
     // As sure as its surest piece of that colour (the check may score the whole lower than each piece).
@@ -252,6 +279,37 @@ void joinPieces(const std::vector<Candidate>& candidates, const std::vector<Colo
       found[k].reset();
     }
     found[first] = std::move(joined);
+    joined_here[first] = true;
+  }
+  return joined_here;
+}
+
+/// Pieces that stood in place of one region and that stereo found to be objects apart (not joined, `joined`): the
+/// nearest hides the others, so its outline is all its own, and it is measured again as a region is (placed at its
+/// silhouette's depth, not at its points'). Its points alone put a partly seen sphere a third of its radius near or
+/// far (config/scenes/crossing.yaml: the near buoy 1.90-2.11 m for 2.0 while the far one emerged from behind it).
+/// Where that measurement fails, the piece's stays.
+template <typename MeasureOne>
+void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
+                        const std::vector<bool>& joined, std::vector<std::optional<Detection>>& found,
+                        std::vector<StageTimings>& times, MeasureOne&& measureOne) {
+  std::map<int, std::vector<int>> apart;  // region -> its pieces reported apart
+  for (int k = 0; k < static_cast<int>(whole_of.size()); ++k) {
+    if (found[k] && !joined[k] && candidates[k].piece && whole_of[k] >= 0) apart[whole_of[k]].push_back(k);
+  }
+  for (const auto& [region, pieces] : apart) {
+    if (pieces.size() < 2) continue;
+    const int nearest = *std::min_element(pieces.begin(), pieces.end(),
+                                          [&](int a, int b) { return found[a]->range_m < found[b]->range_m; });
+    Candidate front = candidates[nearest];
+    front.piece = false;
+    StageTimings t;
+    Rejection rejected;
+    std::optional<Detection> whole = measureOne(front, t, rejected);
+    addObjectStages(times[nearest], t);
+    if (!whole) continue;
+    whole->confidence = std::max(whole->confidence, found[nearest]->confidence);
+    found[nearest] = std::move(whole);
   }
 }
 
@@ -299,9 +357,10 @@ LearnedColourConfig learnedSearchFor(const DetectorConfig& config, const Quality
 }
 
 /// Quality and candidates of `frame`; `search`: the settings scaled for search_scale; `for_check`: the learned
-/// search passes what the check after stereo is to judge.
+/// search passes what the check after stereo is to judge; `one_colour`: what stands for a region cut into pieces of
+/// one colour (kPiecesStand where stereo measures them).
 FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const DetectorConfig& search, StageTimings& t,
-                     Stopwatch& watch, bool for_check) {
+                     Stopwatch& watch, bool for_check, OneColourPieces one_colour) {
   FrontEnd out;
   const cv::Mat small = scaleForSearch(frame, config, search, out);
   t.quality_ms = watch.lapMs();
@@ -311,7 +370,7 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
     // enhancement or white balance before it.
     out.searched = blurredForSearch(small, *out.search);
     LearnedSearch found = findLearnedCandidates(out.searched, config.colours.classes, learnedSearchFor(config, out.quality),
-                                                out.search->candidates, config.pair_threads, for_check);
+                                                out.search->candidates, config.pair_threads, for_check, one_colour);
     t.colour_ms = watch.lapMs();
     out.contrast = std::move(found.contrast);
     for (Candidate& c : found.candidates) {
@@ -321,6 +380,8 @@ FrontEnd runFrontEnd(const RawFrame& frame, const DetectorConfig& config, const 
       out.second_views.push_back(c ? std::optional<Candidate>(toFullResolution(std::move(*c), out.scale, frame.size()))
                                    : std::nullopt);
     }
+    out.whole_of = std::move(found.whole_of);
+    for (Candidate& c : found.wholes) out.wholes.push_back(toFullResolution(std::move(c), out.scale, frame.size()));
     for (Rejection& r : found.rejected) {
       r.roi = scaledRect(r.roi, 1.0 / out.scale);
       out.rejected.push_back(std::move(r));
@@ -413,7 +474,8 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
   requireImageSize(frame.size(), config_.search_scale, "Detector::detect2d");
   DetectionResult result;
   Stopwatch watch, total;
-  const FrontEnd front = runFrontEnd(frame, config_, search_config_, result.timings, watch, false);
+  const FrontEnd front =
+      runFrontEnd(frame, config_, search_config_, result.timings, watch, false, OneColourPieces::kRegionStands);
   result.quality = front.quality;
   result.search_scale = front.scale;
   result.rejected = front.rejected;
@@ -528,7 +590,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   DetectionResult result;
   Stopwatch watch, total;
   FrontEnd front =
-      runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr);
+      runFrontEnd(left, config_, search_config_, result.timings, watch, config_.learned.check != nullptr,
+                  OneColourPieces::kPiecesStand);
   result.quality = front.quality;
   result.search_scale = front.scale;
   result.rejected = front.rejected;
@@ -553,8 +616,12 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   // Objects are independent: measured in parallel (stage times are summed over them), largest first so the
   // small ones fill in behind it on the other thread.
   const int n = static_cast<int>(front.candidates.size());
-  CheckUse check_use;
-  check_use.may_rename = !front.quality.enhanced;
+  // The check names colours, except in a dark frame and for a piece whose colour is its region's.
+  const auto checkUseFor = [&](const Candidate& c) {
+    CheckUse use;
+    use.may_rename = !front.quality.enhanced && !c.colour_of_its_region;
+    return use;
+  };
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
@@ -590,7 +657,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<ObjectOrderEvidence> evidence(n);
   workOnThreads(n, config_.pair_threads, [&](int i) {
     const int k = order[i];
-    found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k], check_use);
+    found[k] = measureOne(front.candidates[k], times[k], why[k], &evidence[k], checkUseFor(front.candidates[k]));
   });
   // A candidate turned down after stereo gives way to the most confident view skipped as the same object (its own
   // piece where it was a region of it and what it touches), unless that view is another detection's object.
@@ -610,7 +677,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
   std::vector<Rejection> second_why(m);
   evidence.resize(n + m);
   workOnThreads(m, config_.pair_threads, [&](int i) {
-    second[i] = measureOne(*front.second_views[retried[i]], second_times[i], second_why[i], &evidence[n + i], check_use);
+    second[i] = measureOne(*front.second_views[retried[i]], second_times[i], second_why[i], &evidence[n + i],
+                           checkUseFor(*front.second_views[retried[i]]));
   });
   std::vector<Rejection> set_aside;  // views turned down that a second view replaced, and second views turned down
   for (int i = 0; i < m; ++i) {
@@ -623,6 +691,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     set_aside.push_back(std::move(why[k]));
     found[k] = std::move(second[i]);
     front.candidates[k] = std::move(*front.second_views[retried[i]]);
+    if (!front.whole_of.empty()) front.whole_of[k] = -1;
   }
   const PairOrder pair_order = pairOrder(evidence);
   result.looks_swapped = pair_order.looksSwapped();
@@ -649,17 +718,18 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     }
     for (Rejection& r : set_aside) swapped(r);
   } else {
-    joinPieces(front.candidates, config_.colours.classes, found, why, times,
-               [&](const Candidate& c, StageTimings& t, Rejection& r) {
-                 // Each piece passed the check and its colour is theirs: the check neither turns the joined region
-                 // down nor renames it.
-                 CheckUse joined;
-                 joined.may_rename = false;
-                 joined.may_reject = false;
-                 return measureOne(c, t, r, nullptr, joined);
-               },
-               left.size(),
-               kPieceGapInEps * config_.cluster.eps_m);
+    // Each piece passed the check and its colour is theirs: the check neither turns a region joined from them, nor
+    // the front one measured again, down, nor renames it.
+    const auto measureChecked = [&](const Candidate& c, StageTimings& t, Rejection& r) {
+      CheckUse checked;
+      checked.may_rename = false;
+      checked.may_reject = false;
+      return measureOne(c, t, r, nullptr, checked);
+    };
+    const std::vector<bool> joined = joinPieces(front.candidates, front.whole_of, front.wholes, config_.colours.classes,
+                                                found, why, times, measureChecked, left.size(),
+                                                kPieceGapInEps * config_.cluster.eps_m);
+    if (!front.whole_of.empty()) measureFrontPieces(front.candidates, front.whole_of, joined, found, times, measureChecked);
   }
   std::move(set_aside.begin(), set_aside.end(), std::back_inserter(result.rejected));
   for (int k = 0; k < n; ++k) {

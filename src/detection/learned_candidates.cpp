@@ -104,19 +104,34 @@ ProposalConfig withCandidateAreas(ProposalConfig proposals, const CandidateConfi
 /// a region inside the box of the rest of a larger one, beside its pixels, holds no part of it).
 constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 
-/// Which regions stand for their objects: a region that holds pieces (BlobProposal::piece) named two colours with
-/// their own votes (`own_needed`) holds two objects, so its pieces stand for it and it does not; a piece cut from a
-/// region (its box inside the region's) and named with its own votes a colour other than the region's (an object
-/// touching a distractor, the region named after their mixture) stands besides the region, the more confident of the
-/// two taken (findLearnedCandidates); any other piece does not (the region it was cut from names its object).
-std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
-                              const std::vector<double>& own_needed) {
+/// Which regions stand for their objects, and the region each piece stands in place of. A region that holds
+/// pieces (BlobProposal::piece, named with their own votes: `own_needed`) of two colours, or with kPiecesStand two
+/// pieces of one colour that are not one region (sameRegion), may hold two objects: its pieces stand for it and it
+/// does not. With kPiecesStand each such piece records the most confident region it stands in place of (`whole`, -1
+/// for none; a region so recorded never stands, so findLearnedCandidates never moves from it), for the detector to
+/// measure whole when its pieces prove one object in 3D (joinPieces; two pieces of one object that record different
+/// regions are measured as their union). A piece cut from a region (its box inside the region's) and named with its
+/// own votes a colour other than the region's (an object touching a distractor, the region named after their
+/// mixture) stands besides the region, the more confident of the two taken (findLearnedCandidates); any other piece
+/// does not (the region it was cut from names its object).
+struct Standing {
+  std::vector<bool> stands;
+  std::vector<int> whole;
+  /// With kPiecesStand: a piece standing in place of regions of one colour only (each of whose pieces is named its
+  /// colour): it stands there for stereo to tell two objects apart, and its colour is its region's
+  /// (Candidate::colour_of_its_region).
+  std::vector<bool> colour_of_region;
+};
+Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
+                     const std::vector<double>& own_needed, OneColourPieces one_colour) {
   std::vector<std::size_t> named_pieces;
   for (std::size_t i = 0; i < regions.size(); ++i) {
     const ColourVerdict& v = verdicts[i];
     if (regions[i].piece && v.colour >= 0 && v.confidence >= own_needed[v.colour]) named_pieces.push_back(i);
   }
-  std::vector<bool> stands(regions.size(), false);
+  Standing out{std::vector<bool>(regions.size(), false), std::vector<int>(regions.size(), -1),
+               std::vector<bool>(regions.size(), false)};
+  std::vector<bool> in_two_colours(regions.size(), false);
   for (std::size_t i = 0; i < regions.size(); ++i) {
     if (regions[i].piece) continue;
     std::vector<std::size_t> inside;
@@ -130,13 +145,29 @@ std::vector<bool> standingFor(const std::vector<BlobProposal>& regions, const st
     const bool two_colours = std::any_of(inside.begin(), inside.end(), [&](std::size_t p) {
       return verdicts[p].colour != verdicts[inside.front()].colour;
     });
-    stands[i] = !two_colours;
+    bool two_objects = two_colours;
+    for (std::size_t a = 0; a < inside.size() && !two_objects; ++a) {
+      for (std::size_t b = a + 1; b < inside.size() && !two_objects; ++b) {
+        const BlobProposal &pa = regions[inside[a]], &pb = regions[inside[b]];
+        two_objects = one_colour == OneColourPieces::kPiecesStand &&
+                      !sameRegion(pa.roi, pa.mask, pb.roi, pb.mask, kPieceInsidePixels);
+      }
+    }
+    out.stands[i] = !two_objects;
     for (std::size_t p : inside) {
       const bool cut_from_it = (regions[p].roi & regions[i].roi).area() >= kPieceInside * regions[p].roi.area();
-      if (two_colours || (cut_from_it && verdicts[p].colour != verdicts[i].colour)) stands[p] = true;
+      if (two_objects || (cut_from_it && verdicts[p].colour != verdicts[i].colour)) out.stands[p] = true;
+      if (two_colours) in_two_colours[p] = true;
+      if (two_objects && !two_colours && one_colour == OneColourPieces::kPiecesStand) out.colour_of_region[p] = true;
+      int& whole = out.whole[p];
+      if (two_objects && one_colour == OneColourPieces::kPiecesStand &&
+          (whole < 0 || verdicts[i].confidence > verdicts[whole].confidence)) {
+        whole = static_cast<int>(i);
+      }
     }
   }
-  return stands;
+  for (std::size_t p = 0; p < regions.size(); ++p) out.colour_of_region[p] = out.colour_of_region[p] && !in_two_colours[p];
+  return out;
 }
 
 }  // namespace
@@ -206,7 +237,7 @@ LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& c
 
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
                                     const LearnedColourConfig& config, const CandidateConfig& candidates, int threads,
-                                    bool for_check) {
+                                    bool for_check, OneColourPieces one_colour) {
   requireBgr8(bgr, "findLearnedCandidates");
   if (!config.model || config.model->empty()) throw std::invalid_argument("findLearnedCandidates: no colour model loaded");
   LearnedProposals proposed = proposeLearned(bgr, config, candidates, threads);
@@ -226,10 +257,13 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   struct Named {
     BlobProposal proposal;
     ColourVerdict verdict;
+    int whole = -1;  ///< into proposed.regions: the region it stands in place of (Standing::whole)
+    bool colour_of_region = false;  ///< Standing::colour_of_region
   };
   std::vector<Named> named;
   std::vector<ColourVerdict> verdicts = config.model->classify(featureRows(proposed.regions));
-  // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects.
+  // The regions named a colour, cut into pieces along the image's steps and named too: two touching objects (or, in
+  // one colour, one object cut in two: standingFor).
   std::vector<BlobProposal> pieces;
   {
     std::vector<const BlobProposal*> to_cut;  // into proposed.regions, which the pieces join below
@@ -244,9 +278,9 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     verdicts.insert(verdicts.end(), piece_verdicts.begin(), piece_verdicts.end());
     std::move(pieces.begin(), pieces.end(), std::back_inserter(proposed.regions));
   }
-  const std::vector<bool> stands = standingFor(proposed.regions, verdicts, own_needed);
+  const Standing standing = standingFor(proposed.regions, verdicts, own_needed, one_colour);
   for (std::size_t i = 0; i < proposed.regions.size(); ++i) {
-    if (!stands[i]) continue;
+    if (!standing.stands[i]) continue;
     BlobProposal& b = proposed.regions[i];
     const ColourVerdict& v = verdicts[i];
     if (v.colour < 0 || v.confidence < kExplainShare * needed[v.colour]) continue;
@@ -260,7 +294,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
                                                   : "colour confidence %.2f under its min_confidence %.2f",
                                         v.confidence, needed[v.colour])});
     } else {
-      named.push_back({std::move(b), v});
+      named.push_back({std::move(b), v, standing.whole[i], standing.colour_of_region[i]});
     }
   }
   std::stable_sort(named.begin(), named.end(),
@@ -268,7 +302,7 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
   const auto candidateOf = [&](Named& n) {
     if (!n.proposal.piece) cutAtItsEdge(out.contrast, n.proposal);  // cut again at its saliency, a piece joins its neighbour
     Candidate c;
-    c.colour_index = designated[n.verdict.colour];
+    c.colour_index = n.verdict.colour >= 0 ? designated[n.verdict.colour] : -1;
     c.roi = n.proposal.roi;
     c.mask = n.proposal.mask;
     c.area_px = n.proposal.area_px;
@@ -279,11 +313,13 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     c.saliency_kind = n.proposal.kind;
     c.saliency_level = n.proposal.level;
     c.piece = n.proposal.piece;
+    c.colour_of_its_region = n.colour_of_region;
     c.colour_features = std::move(n.proposal.features);
     c.colour_features.insert(c.colour_features.end(), n.verdict.shares.begin(), n.verdict.shares.end());
     c.contour = std::move(n.proposal.contour);
     return c;
   };
+  std::vector<int> whole_regions;  // into proposed.regions: the region of each of out.wholes
   for (Named& n : named) {
     const auto same_object = std::find_if(out.candidates.begin(), out.candidates.end(), [&](const Candidate& kept) {
       return sameRegion(kept.roi, kept.mask, n.proposal.roi, n.proposal.mask, config.max_overlap);
@@ -300,6 +336,16 @@ LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<Colour
     }
     out.candidates.push_back(candidateOf(n));
     out.second_views.emplace_back();
+    out.whole_of.push_back(-1);
+    if (n.whole >= 0) {  // the region a piece stands in place of (it never stands: not moved from), described once
+      const auto known = std::find(whole_regions.begin(), whole_regions.end(), n.whole);
+      out.whole_of.back() = static_cast<int>(known - whole_regions.begin());
+      if (known == whole_regions.end()) {
+        Named region{proposed.regions[n.whole], verdicts[n.whole]};
+        out.wholes.push_back(candidateOf(region));
+        whole_regions.push_back(n.whole);
+      }
+    }
   }
   return out;
 }

@@ -133,4 +133,32 @@ Candidate joinedCandidate(const std::vector<const Candidate*>& pieces, const cv:
   return c;
 }
 
+int regionOfPieces(const std::vector<int>& group, const std::vector<int>& whole_of) {
+  const int n = static_cast<int>(whole_of.size());
+  for (int k : group) {
+    if (k < 0 || k >= n) throw std::invalid_argument("regionOfPieces: a candidate index outside whole_of");
+  }
+  if (group.empty()) return -1;
+  const int region = whole_of[group.front()];
+  if (region < 0) return -1;
+  for (int k = 0; k < n; ++k) {
+    const bool in_group = std::find(group.begin(), group.end(), k) != group.end();
+    if ((whole_of[k] == region) != in_group) return -1;
+  }
+  return region;
+}
+
+double shareCovered(const Candidate& pieces, const Candidate& region) {
+  cv::Mat in_region;
+  cv::compare(region.mask, 128, in_region, cv::CMP_GE);
+  const int all = cv::countNonZero(in_region);
+  if (all == 0) return 0.0;
+  const cv::Rect both = pieces.roi & region.roi;
+  if (both.empty()) return 0.0;
+  cv::Mat in_pieces;
+  cv::compare(pieces.mask(both - pieces.roi.tl()), 128, in_pieces, cv::CMP_GE);
+  cv::bitwise_and(in_pieces, in_region(both - region.roi.tl()), in_pieces);
+  return static_cast<double>(cv::countNonZero(in_pieces)) / all;
+}
+
 }  // namespace underwater_stereo

@@ -52,9 +52,14 @@ struct Candidate {
   /// kLearned only: the saliency and level the region was cut at (the right frame is cut alike).
   SaliencyKind saliency_kind = SaliencyKind::kChroma;
   double saliency_level = 0.0;
-  /// kLearned only: cut from a region that held two objects, along the image's steps (BlobProposal::piece); part
-  /// of its outline is the edge of the object it touched.
+  /// kLearned only: cut from a region that held two objects (or, in 3D, one object cut in two, which the detector
+  /// then measures whole), along the image's steps (BlobProposal::piece); part of its outline may be the edge of the
+  /// object it touched.
   bool piece = false;
+  /// kLearned only, in 3D: a piece standing in place of a region of its own colour (OneColourPieces::kPiecesStand),
+  /// there only for stereo to tell two touching objects apart. Its colour is the region's, named from all of the
+  /// region's pixels: the check after stereo, reading the piece's fewer pixels and its edge, does not rename it.
+  bool colour_of_its_region = false;
   /// kLearned only: its proposal's features and the colour model's shares of votes (what the check after stereo
   /// reads, detection_check.h).
   std::vector<float> colour_features;

@@ -98,6 +98,14 @@ struct LearnedSearch {
   /// measures in its place when the candidate is turned down after stereo (turnedDownByStereo: a region of an object
   /// and what it touches, turned down, while the object's own piece or region was skipped as part of it).
   std::vector<std::optional<Candidate>> second_views;
+  /// For each candidate that is a piece standing in place of its region (the region held pieces of two colours, or two
+  /// pieces of one: two objects, or one cut in two), that region as an index into `wholes`, else -1: what the
+  /// detector measures when all of that region's pieces prove one object in 3D (joinPieces), in place of their union.
+  std::vector<int> whole_of;
+  /// Those regions, described as candidates are (searched-image pixels; the detector's FrontEnd holds them at full
+  /// resolution); colour_index is the region's own colour (-1 where none is designated), which the detector replaces
+  /// by its pieces'.
+  std::vector<Candidate> wholes;
   std::vector<Rejection> rejected;    ///< proposals some colour got votes for, not reported (searched-image pixels)
 };
 
@@ -112,14 +120,22 @@ struct LearnedProposals {
 LearnedProposals proposeLearned(const cv::Mat& bgr, const LearnedColourConfig& config, const CandidateConfig& candidates,
                                 int threads = 1);
 
+/// What stands for the objects of a region cut into two pieces of one colour (two objects of one colour touching in
+/// the image, or one object cut in two by a shading band or a box's edge).
+enum class OneColourPieces {
+  kRegionStands,  ///< the region: in one image nothing tells the two cases apart (detect2d)
+  kPiecesStand,   ///< its pieces, in its place: stereo tells them apart (the detector measures them whole again when
+                  ///< their 3D clusters touch, joinPieces)
+};
+
 /// Candidates of `bgr` (the searched image). A proposal's colour must be one of `classes` (the designated
 /// colours, by name) and the model's confidence in it (ColourVerdict::confidence) must reach the class's
 /// min_confidence, else the model's (with `for_check`, config.check_from_confidence for every colour: the check after
-/// stereo decides). On `threads`
-/// threads (workOnThreads; the same result whatever the number).
+/// stereo decides). A region cut into pieces of two colours gives way to its pieces; one cut into two pieces of one
+/// colour as `one_colour` says. On `threads` threads (workOnThreads; the same result whatever the number).
 /// @throw std::invalid_argument when bgr is not CV_8UC3 or the model is missing.
 LearnedSearch findLearnedCandidates(const cv::Mat& bgr, const std::vector<ColourClass>& classes,
                                     const LearnedColourConfig& config, const CandidateConfig& candidates, int threads = 1,
-                                    bool for_check = false);
+                                    bool for_check = false, OneColourPieces one_colour = OneColourPieces::kRegionStands);
 
 }  // namespace underwater_stereo

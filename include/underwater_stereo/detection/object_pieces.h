@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 /// @file One object seen as several 2D regions (a near object split by a highlight or a shading band): which
-/// detections are pieces of one object, and the one region they make together.
+/// detections are pieces of one object, the one region they make together, and the region they were cut from.
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -26,5 +26,14 @@ std::vector<std::vector<int>> piecesOfOneObject(const std::function<bool(int, in
 /// learned saliency cut of the most confident one. @throw std::invalid_argument when `pieces` is empty or mixes
 /// colours.
 Candidate joinedCandidate(const std::vector<const Candidate*>& pieces, const cv::Size& frame);
+
+/// The region that the candidates `group` (indices into `whole_of`) stood in place of as its pieces, when they are
+/// exactly the candidates that stood in its place (`whole_of`: each candidate's region, -1 for none; as
+/// FrontEnd::whole_of); else -1. @throw std::invalid_argument when an index of `group` lies outside `whole_of`.
+int regionOfPieces(const std::vector<int>& group, const std::vector<int>& whole_of);
+
+/// The share of `region`'s pixels (full-resolution masks, soft edges: pixels from 128 on count) that `pieces` (their
+/// union, joinedCandidate) cover; 0 where the region has none.
+double shareCovered(const Candidate& pieces, const Candidate& region);
 
 }  // namespace underwater_stereo

@@ -51,7 +51,7 @@ struct TrackingConfig {
   double view_margin_px = 40.0;  ///< a track is expected in view when it projects this far inside the image
   /// [m] a detection whose image comes this close to a nearer detection's (at the nearer one's range) is not
   /// used: in one of the two cameras the nearer object hides part of it, and its depth is wrong (about the
-  /// stereo baseline)
+  /// stereo baseline); nor is the nearer of two of one colour that close (they may make one silhouette in a camera)
   double occlusion_margin_m = 0.1;
 
   // Bad input.
