@@ -452,8 +452,8 @@ TEST(Tracker, ADetectionNextToANearerOneIsNotUsed) {
 TEST(Tracker, TheNearerOfTwoOfOneColourThatCloseIsNotUsedEither) {
   Tracker tracker(TrackingConfig{});
   TrackingFrame f;
-  // Two red buoys 0.05 m apart in the image at 2 m: in the right camera they may make one silhouette, which puts the
-  // near one's depth off as well as the far one's.
+  // Two red buoys overlapping in the image (the near one at 2 m, the far one at 3.5 m): in the right camera they may
+  // make one silhouette, which puts the near one's depth off as well as the far one's.
   Observation near = observation("red", {-0.05, 0, 2.0}), far = observation("red", {0.2, 0, 3.5});
   near.size_m = far.size_m = Eigen::Vector3d::Constant(0.25);
   f.observations = {near, far};

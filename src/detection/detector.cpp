@@ -209,13 +209,13 @@ constexpr double kPiecesCoverTheirRegion = 0.75;
 /// no piece, is placed at its silhouette's depth and keeps its own outline and face contrast; either way the joined
 /// detection is named as the group's surest piece of its colour. It takes the first piece's place and the others are
 /// reported as rejected, naming it; when the joined region cannot be measured the pieces stay as they were.
-/// @return for each candidate, whether its detection is now such a joined one
+/// @return for each candidate, whether it was in a group of pieces of one object (joined, or not measurable whole)
 template <typename MeasureOne>
 std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
                 const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
                 std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why, std::vector<StageTimings>& times,
                 MeasureOne&& measureOne, const cv::Size& frame, double gap_m) {
-  std::vector<bool> joined_here(found.size(), false);
+  std::vector<bool> in_group(found.size(), false);
   std::vector<int> index, colours;  // colours: of the reported detections, as class indices
   std::vector<std::vector<Eigen::Vector3f>> clusters;
   for (int k = 0; k < static_cast<int>(found.size()); ++k) {
@@ -251,6 +251,7 @@ std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std
     std::vector<const Candidate*> pieces;
     for (const Candidate& c : in_colour) pieces.push_back(&c);
     const int first = index[group.front()];
+    for (int g : group) in_group[index[g]] = true;
     Candidate whole = joinedCandidate(pieces, frame);
     std::vector<int> members;  // the group as candidate indices
     for (int g : group) members.push_back(index[g]);
@@ -279,23 +280,26 @@ std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std
       found[k].reset();
     }
     found[first] = std::move(joined);
-    joined_here[first] = true;
   }
-  return joined_here;
+  return in_group;
 }
 
-/// Pieces that stood in place of one region and that stereo found to be objects apart (not joined, `joined`): the
-/// nearest hides the others, so its outline is all its own, and it is measured again as a region is (placed at its
-/// silhouette's depth, not at its points'). Its points alone put a partly seen sphere a third of its radius near or
+/// Pieces that stood in place of one region of their colour (Candidate::colour_of_its_region) and that stereo found
+/// to be objects apart (in no group of pieces of one object, `grouped`): the nearest hides the others, so its outline
+/// is all its own, and it is measured again as a region is (placed at its silhouette's depth, not at its points',
+/// in the colour it is reported in). Its points alone put a partly seen sphere up to a third of its radius near or
 /// far (config/scenes/crossing.yaml: the near buoy 1.90-2.11 m for 2.0 while the far one emerged from behind it).
-/// Where that measurement fails, the piece's stays.
+/// Where that measurement fails, the piece's stays. Pieces of two colours keep their points' depth (session 28).
 template <typename MeasureOne>
 void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
-                        const std::vector<bool>& joined, std::vector<std::optional<Detection>>& found,
-                        std::vector<StageTimings>& times, MeasureOne&& measureOne) {
+                        const std::vector<bool>& grouped, const std::vector<ColourClass>& classes,
+                        std::vector<std::optional<Detection>>& found, std::vector<StageTimings>& times,
+                        MeasureOne&& measureOne) {
   std::map<int, std::vector<int>> apart;  // region -> its pieces reported apart
   for (int k = 0; k < static_cast<int>(whole_of.size()); ++k) {
-    if (found[k] && !joined[k] && candidates[k].piece && whole_of[k] >= 0) apart[whole_of[k]].push_back(k);
+    if (found[k] && !grouped[k] && candidates[k].colour_of_its_region && whole_of[k] >= 0) {
+      apart[whole_of[k]].push_back(k);
+    }
   }
   for (const auto& [region, pieces] : apart) {
     if (pieces.size() < 2) continue;
@@ -303,6 +307,8 @@ void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vec
                                           [&](int a, int b) { return found[a]->range_m < found[b]->range_m; });
     Candidate front = candidates[nearest];
     front.piece = false;
+    const ColourClass* reported = findColourClass(classes, found[nearest]->colour);
+    if (reported != nullptr) front.colour_index = static_cast<int>(reported - classes.data());
     StageTimings t;
     Rejection rejected;
     std::optional<Detection> whole = measureOne(front, t, rejected);
@@ -522,7 +528,8 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   for (int i : clusters.front()) d.points.push_back(roi_points.points[i]);
   ShapeFit fit = fitShape(d.points, contourRays(c.contour, cal), outlineCues(c, left_roi, left.size()), config_.shape);
   // A piece's outline is partly the edge of the object it touched: its silhouette's depth is not its own, and the
-  // piece keeps its points' (docs/accuracy.md, "A piece keeps its points' depth").
+  // piece keeps its points' (docs/accuracy.md, "A piece keeps its points' depth"; the front one of pieces of one
+  // colour that stereo tells apart is measured again as a region: measureFrontPieces).
   if (!c.piece) placeAtSilhouetteDepth(fit, roi_points.silhouette_disparity, matcher_->calibration(), d.cut_by_border);
   t.fit_ms += stage.lapMs();
   if (!fit.centre.allFinite() || !fit.size.allFinite()) {  // never report NaN
@@ -726,10 +733,10 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       checked.may_reject = false;
       return measureOne(c, t, r, nullptr, checked);
     };
-    const std::vector<bool> joined = joinPieces(front.candidates, front.whole_of, front.wholes, config_.colours.classes,
-                                                found, why, times, measureChecked, left.size(),
-                                                kPieceGapInEps * config_.cluster.eps_m);
-    if (!front.whole_of.empty()) measureFrontPieces(front.candidates, front.whole_of, joined, found, times, measureChecked);
+    const std::vector<bool> grouped = joinPieces(front.candidates, front.whole_of, front.wholes,
+                                                 config_.colours.classes, found, why, times, measureChecked, left.size(),
+                                                 kPieceGapInEps * config_.cluster.eps_m);
+    measureFrontPieces(front.candidates, front.whole_of, grouped, config_.colours.classes, found, times, measureChecked);
   }
   std::move(set_aside.begin(), set_aside.end(), std::back_inserter(result.rejected));
   for (int k = 0; k < n; ++k) {

@@ -117,9 +117,9 @@ constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 struct Standing {
   std::vector<bool> stands;
   std::vector<int> whole;
-  /// With kPiecesStand: a piece standing in place of regions of one colour only (each of whose pieces is named its
-  /// colour): it stands there for stereo to tell two objects apart, and its colour is its region's
-  /// (Candidate::colour_of_its_region).
+  /// With kPiecesStand: a piece standing in place of regions named its colour whose pieces are all named so too
+  /// (and of none holding pieces of two colours): it stands there for stereo to tell two objects apart, and its colour
+  /// is its region's (Candidate::colour_of_its_region).
   std::vector<bool> colour_of_region;
 };
 Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
@@ -158,7 +158,7 @@ Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector
       const bool cut_from_it = (regions[p].roi & regions[i].roi).area() >= kPieceInside * regions[p].roi.area();
       if (two_objects || (cut_from_it && verdicts[p].colour != verdicts[i].colour)) out.stands[p] = true;
       if (two_colours) in_two_colours[p] = true;
-      if (two_objects && !two_colours && one_colour == OneColourPieces::kPiecesStand) out.colour_of_region[p] = true;
+      if (two_objects && !two_colours && verdicts[p].colour == verdicts[i].colour) out.colour_of_region[p] = true;
       int& whole = out.whole[p];
       if (two_objects && one_colour == OneColourPieces::kPiecesStand &&
           (whole < 0 || verdicts[i].confidence > verdicts[whole].confidence)) {

@@ -101,6 +101,7 @@ struct LearnedSearch {
   /// For each candidate that is a piece standing in place of its region (the region held pieces of two colours, or two
   /// pieces of one: two objects, or one cut in two), that region as an index into `wholes`, else -1: what the
   /// detector measures when all of that region's pieces prove one object in 3D (joinPieces), in place of their union.
+  /// Only with OneColourPieces::kPiecesStand; all -1 with kRegionStands.
   std::vector<int> whole_of;
   /// Those regions, described as candidates are (searched-image pixels; the detector's FrontEnd holds them at full
   /// resolution); colour_index is the region's own colour (-1 where none is designated), which the detector replaces
