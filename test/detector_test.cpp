@@ -46,6 +46,13 @@ void expectSameObjects(const DetectionResult& got, const DetectionResult& expect
   }
 }
 
+/// The ground truth of the object named `name` in `pair`, or nullptr.
+const sim::GroundTruthObject* truthNamed(const sim::RenderedPair& pair, const std::string& name) {
+  const auto it = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
+                               [&](const sim::GroundTruthObject& g) { return g.name == name; });
+  return it == pair.ground_truth.end() ? nullptr : &*it;
+}
+
 }  // namespace
 
 TEST(Detector, FindsBothBuoysWithRangeAndPositionWithin3Percent) {
@@ -141,9 +148,8 @@ TEST(Detector, TouchingBuoysOfOneColourAtTwoRangesAreBothFound) {
 TEST(Detector, ABuoyEmergingFromBehindOneOfItsColourKeepsTheRegionsColour) {
   const sim::Renderer renderer(sim::loadSceneFile(UWS_SOURCE_DIR "/config/scenes/crossing.yaml"));
   const sim::RenderedPair pair = renderer.render(33.0, 0);
-  const auto far = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
-                                [](const sim::GroundTruthObject& g) { return g.name == "red_buoy_far"; });
-  ASSERT_NE(far, pair.ground_truth.end());
+  const sim::GroundTruthObject* far = truthNamed(pair, "red_buoy_far");
+  ASSERT_NE(far, nullptr);
   ASSERT_GT(far->visible_pixels, 1000);
   ASSERT_LT(far->visible_pixels, 3000) << "partly hidden by the near buoy";
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
@@ -154,9 +160,8 @@ TEST(Detector, ABuoyEmergingFromBehindOneOfItsColourKeepsTheRegionsColour) {
   })) << "the far buoy at its own range";
   // The near buoy, the front piece, is measured again with its own outline: within 2 % of its range (its points
   // alone put it at 1.92 m, 4 % near).
-  const auto near = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
-                                 [](const sim::GroundTruthObject& g) { return g.name == "red_buoy_near"; });
-  ASSERT_NE(near, pair.ground_truth.end());
+  const sim::GroundTruthObject* near = truthNamed(pair, "red_buoy_near");
+  ASSERT_NE(near, nullptr);
   const auto on_near = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& d) {
     return near->roi_left.contains((d.roi.tl() + d.roi.br()) / 2);
   });
@@ -171,9 +176,8 @@ TEST(Detector, ABuoyEmergingFromBehindOneOfItsColourKeepsTheRegionsColour) {
 TEST(Detector, PiecesOfOneObjectAreMeasuredAsTheirRegion) {
   const sim::Renderer renderer(sim::loadSceneFile(UWS_SOURCE_DIR "/config/scenes/distractors.yaml"));
   const sim::RenderedPair pair = renderer.render(0.0, 0);
-  const auto box = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
-                                [](const sim::GroundTruthObject& g) { return g.name == "green_box"; });
-  ASSERT_NE(box, pair.ground_truth.end());
+  const sim::GroundTruthObject* box = truthNamed(pair, "green_box");
+  ASSERT_NE(box, nullptr);
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
   const DetectionResult r = Detector(defaultConfig(), renderer.calibration()).detect(left, right);
   const auto found = std::find_if(r.objects.begin(), r.objects.end(), [&](const Detection& d) {
@@ -449,9 +453,8 @@ TEST(Detector, AFarObjectsPointsAreClusteredAtTheRadiusOfItsDepthStep) {
   const sim::SampledScene sampled = sim::sampleScene(100016);
   const sim::Renderer renderer(sampled.scene);
   const sim::RenderedPair pair = renderer.render(0.0, 0);
-  const auto truth = std::find_if(pair.ground_truth.begin(), pair.ground_truth.end(),
-                                  [](const sim::GroundTruthObject& o) { return o.name == "orange_plane_0"; });
-  ASSERT_NE(truth, pair.ground_truth.end());
+  const sim::GroundTruthObject* truth = truthNamed(pair, "orange_plane_0");
+  ASSERT_NE(truth, nullptr);
   ASSERT_NEAR(truth->range_m, 4.7, 0.05);
   const auto onIt = [&](const cv::Rect& roi) { return (roi & truth->roi_left).area() > 0.5 * roi.area(); };
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
