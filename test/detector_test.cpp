@@ -154,6 +154,7 @@ TEST(Detector, ABuoyEmergingFromBehindOneOfItsColourKeepsTheRegionsColour) {
   ASSERT_LT(far->visible_pixels, 3000) << "partly hidden by the near buoy";
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
   const DetectionResult r = Detector(defaultConfig(), renderer.calibration()).detect(left, right);
+  EXPECT_EQ(r.objects.size(), 2U);
   for (const Detection& d : r.objects) EXPECT_EQ(d.colour, "red") << "at " << d.range_m << " m";
   EXPECT_TRUE(std::any_of(r.objects.begin(), r.objects.end(), [&](const Detection& d) {
     return far->roi_left.contains((d.roi.tl() + d.roi.br()) / 2) && std::abs(d.range_m - far->range_m) < 0.05 * far->range_m;

@@ -212,9 +212,10 @@ constexpr double kPiecesCoverTheirRegion = 0.75;
 /// @return for each candidate, whether it was in a group of pieces of one object (joined, or not measurable whole)
 template <typename MeasureOne>
 std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
-                const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
-                std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why, std::vector<StageTimings>& times,
-                MeasureOne&& measureOne, const cv::Size& frame, double gap_m) {
+                             const std::vector<Candidate>& wholes, const std::vector<ColourClass>& classes,
+                             std::vector<std::optional<Detection>>& found, std::vector<Rejection>& why,
+                             std::vector<StageTimings>& times, MeasureOne&& measureOne, const cv::Size& frame,
+                             double gap_m) {
   std::vector<bool> in_group(found.size(), false);
   std::vector<int> index, colours;  // colours: of the reported detections, as class indices
   std::vector<std::vector<Eigen::Vector3f>> clusters;

@@ -117,9 +117,9 @@ constexpr double kPieceInside = 0.9, kPieceInsidePixels = 0.5;
 struct Standing {
   std::vector<bool> stands;
   std::vector<int> whole;
-  /// With kPiecesStand: a piece standing in place of regions named its colour whose pieces are all named so too
-  /// (and of none holding pieces of two colours): it stands there for stereo to tell two objects apart, and its colour
-  /// is its region's (Candidate::colour_of_its_region).
+  /// With kPiecesStand: a piece standing in place of a region named its colour whose pieces are all named so too
+  /// (and inside no region holding pieces of two colours): it stands there for stereo to tell two objects apart, and
+  /// its colour is that region's (Candidate::colour_of_its_region).
   std::vector<bool> colour_of_region;
 };
 Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector<ColourVerdict>& verdicts,
@@ -166,7 +166,9 @@ Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector
       }
     }
   }
-  for (std::size_t p = 0; p < regions.size(); ++p) out.colour_of_region[p] = out.colour_of_region[p] && !in_two_colours[p];
+  for (std::size_t p = 0; p < regions.size(); ++p) {
+    out.colour_of_region[p] = out.colour_of_region[p] && !in_two_colours[p];
+  }
   return out;
 }
 

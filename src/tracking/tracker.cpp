@@ -146,7 +146,8 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
 
   // Where the tracks should be in the image. Detections whose depth cannot be trusted update no track and start
   // none (the tracks under them count as hidden): one whose disc holds the centres of two or more confirmed
-  // tracks of its colour (the detector joins touching regions of one colour), one next to a nearer detection
+  // tracks of its colour (the detector may join touching objects of one colour where stereo cannot tell them
+  // apart), one next to a nearer detection
   // (within occlusion_margin_m: in one of the two cameras the nearer object hides part of it), and the nearer of
   // two of one colour that close (in the right camera the two may make one silhouette, which puts the nearer one a
   // few per cent near or far: config/scenes/crossing.yaml's near buoy 1.90-2.11 m for 2.0).
@@ -182,8 +183,9 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
       if (j == i || !valid[j]) continue;
       behind = behind || (other.position_m.norm() < o.position_m.norm() &&
                           gap(j, o.position_m, o.size_m.maxCoeff()) < config_.occlusion_margin_m);
-      before_its_colour = before_its_colour || (other.colour == o.colour && other.position_m.norm() > o.position_m.norm() &&
-                                                gap(i, other.position_m, other.size_m.maxCoeff()) < config_.occlusion_margin_m);
+      before_its_colour =
+          before_its_colour || (other.colour == o.colour && other.position_m.norm() > o.position_m.norm() &&
+                                gap(i, other.position_m, other.size_m.maxCoeff()) < config_.occlusion_margin_m);
     }
     usable[i] = under < 2 && !behind && !before_its_colour;
   }
