@@ -287,15 +287,14 @@ std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std
 
 /// Pieces that stood in place of one region of their colour (Candidate::colour_of_its_region) and that stereo found
 /// to be objects apart (in no group of pieces of one object, `grouped`): the nearest hides the others, so its outline
-/// is all its own, and it is measured again as a region is (placed at its silhouette's depth, not at its points',
-/// in the colour it is reported in). Its points alone put a partly seen sphere up to a third of its radius near or
+/// is all its own, and it is measured again as a region is (placed at its silhouette's depth, not at its points';
+/// in its colour, which the check did not rename: Detector::detect's checkUseFor). Its points alone put a partly seen sphere up to a third of its radius near or
 /// far (config/scenes/crossing.yaml: the near buoy 1.90-2.11 m for 2.0 while the far one emerged from behind it).
 /// Where that measurement fails, the piece's stays. Pieces of two colours keep their points' depth (session 28).
 template <typename MeasureOne>
 void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
-                        const std::vector<bool>& grouped, const std::vector<ColourClass>& classes,
-                        std::vector<std::optional<Detection>>& found, std::vector<StageTimings>& times,
-                        MeasureOne&& measureOne) {
+                        const std::vector<bool>& grouped, std::vector<std::optional<Detection>>& found,
+                        std::vector<StageTimings>& times, MeasureOne&& measureOne) {
   std::map<int, std::vector<int>> apart;  // region -> its pieces reported apart
   for (int k = 0; k < static_cast<int>(whole_of.size()); ++k) {
     if (found[k] && !grouped[k] && candidates[k].colour_of_its_region && whole_of[k] >= 0) {
@@ -308,8 +307,6 @@ void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vec
                                           [&](int a, int b) { return found[a]->range_m < found[b]->range_m; });
     Candidate front = candidates[nearest];
     front.piece = false;
-    const ColourClass* reported = findColourClass(classes, found[nearest]->colour);
-    if (reported != nullptr) front.colour_index = static_cast<int>(reported - classes.data());
     StageTimings t;
     Rejection rejected;
     std::optional<Detection> whole = measureOne(front, t, rejected);
@@ -737,7 +734,7 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     const std::vector<bool> grouped = joinPieces(front.candidates, front.whole_of, front.wholes,
                                                  config_.colours.classes, found, why, times, measureChecked, left.size(),
                                                  kPieceGapInEps * config_.cluster.eps_m);
-    measureFrontPieces(front.candidates, front.whole_of, grouped, config_.colours.classes, found, times, measureChecked);
+    measureFrontPieces(front.candidates, front.whole_of, grouped, found, times, measureChecked);
   }
   std::move(set_aside.begin(), set_aside.end(), std::back_inserter(result.rejected));
   for (int k = 0; k < n; ++k) {

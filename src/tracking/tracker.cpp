@@ -147,10 +147,10 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
   // Where the tracks should be in the image. Detections whose depth cannot be trusted update no track and start
   // none (the tracks under them count as hidden): one whose disc holds the centres of two or more confirmed
   // tracks of its colour (the detector may join touching objects of one colour where stereo cannot tell them
-  // apart), one next to a nearer detection
-  // (within occlusion_margin_m: in one of the two cameras the nearer object hides part of it), and the nearer of
-  // two of one colour that close (in the right camera the two may make one silhouette, which puts the nearer one a
-  // few per cent near or far: config/scenes/crossing.yaml's near buoy 1.90-2.11 m for 2.0).
+  // apart), one next to a nearer detection (within occlusion_margin_m: in one of the two cameras the nearer object
+  // hides part of it), and the nearer of two of one colour that close (in the right camera the two may make one
+  // silhouette, which puts the nearer one a few per cent near or far: config/scenes/crossing.yaml's near buoy
+  // 1.90-2.11 m for 2.0).
   const Eigen::Isometry3d world_to_camera = frame.camera_pose.inverse();
   std::vector<Eigen::Vector3d> in_camera(tracks_.size());
   std::vector<bool> visible(tracks_.size());
@@ -177,17 +177,16 @@ TrackingUpdate Tracker::update(const TrackingFrame& frame) {
       under += tracks_[k].status == TrackStatus::kConfirmed && visible[k] && tracks_[k].colour == o.colour &&
                angle(o.position_m, in_camera[k]) * o.position_m.norm() < o.size_m.maxCoeff() / 2;
     }
-    bool behind = false, before_its_colour = false;
+    if (under >= 2) usable[i] = false;
+    // Too close to a nearer detection j: not used, nor j when it is of i's colour.
     for (std::size_t j = 0; j < n; ++j) {
-      const Observation& other = frame.observations[j];
-      if (j == i || !valid[j]) continue;
-      behind = behind || (other.position_m.norm() < o.position_m.norm() &&
-                          gap(j, o.position_m, o.size_m.maxCoeff()) < config_.occlusion_margin_m);
-      before_its_colour =
-          before_its_colour || (other.colour == o.colour && other.position_m.norm() > o.position_m.norm() &&
-                                gap(i, other.position_m, other.size_m.maxCoeff()) < config_.occlusion_margin_m);
+      const Observation& front = frame.observations[j];
+      if (j != i && valid[j] && front.position_m.norm() < o.position_m.norm() &&
+          gap(j, o.position_m, o.size_m.maxCoeff()) < config_.occlusion_margin_m) {
+        usable[i] = false;
+        if (front.colour == o.colour) usable[j] = false;
+      }
     }
-    usable[i] = under < 2 && !behind && !before_its_colour;
   }
 
   // Gated candidate pairs, then greedy: confirmed tracks first, then by distance.
