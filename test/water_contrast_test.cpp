@@ -307,6 +307,22 @@ TEST(BlobProposals, TheRestOfARegionAPieceWasCutFromIsAPieceToo) {
   EXPECT_TRUE(anyNearly(cut.pieces, panel)) << cut.pieces.size() << " pieces";
 }
 
+// A buoy mostly hidden behind a large panel of another colour, about 3 % of their region, is cut off as a piece (under
+// 5 % of the region it was no piece before session 53, and a small object against a large near one was lost).
+TEST(BlobProposals, ASmallObjectAgainstALargeOneOfAnotherColourIsAPiece) {
+  const cv::Vec3d water = kWaters[1].veil;
+  const cv::Rect panel(220, 120, 360, 240), buoy(180, 195, 40, 91);  // the buoy's part left of the panel
+  cv::Mat frame = frameWith(water, seen({20, 30, 200}, water, 0.6), {225, 240}, 45, 5);
+  frame(panel).setTo(cv::Scalar(seen({40, 160, 30}, water, 0.6)));
+  ProposalConfig config;
+  config.min_area_px = 25;
+  const ProposedAndCut cut = proposeAndCut(frame, config);
+  ASSERT_TRUE(anyNearly(cut.regions, buoy | panel)) << "the pair is one region";
+  EXPECT_LT(buoy.area(), 0.04 * (buoy | panel).area()) << "the buoy holds under 5 % of the region";
+  EXPECT_TRUE(anyNearly(cut.pieces, buoy)) << cut.pieces.size() << " pieces";
+  EXPECT_TRUE(anyNearly(cut.pieces, panel)) << cut.pieces.size() << " pieces";
+}
+
 // The steps that cut pieces are the image's chromaticity's (ln R/G, ln B/G), not its brightness's: an orange and a
 // yellow panel side by side (the yellow a little brighter) are cut apart, while one panel lit on its left half and
 // shaded on its right (60 %: a step of ln 0.6 in every channel) is not cut along its shading.
