@@ -167,9 +167,9 @@ std::vector<float> describe(const cv::Mat& bgr, const WaterContrast& wc, const B
 /// only once such a piece was kept: the rest of a region cut into slivers alone is the region again, the rest of one a
 /// buoy was cut off is the object the buoy touched (docs/accuracy.md, "The rest of a region is a piece too").
 /// 2 %, not 5 % (sessions 27-52): a small object beside or behind a large near one of another colour may hold well
-/// under 5 % of their region (a plate at 2 m under a box at 1 m). Validation seeds 60000-60299: 1 % and 2 % found the
-/// same five objects more, 0 % (min_area_px alone) none more and a longer range tail (docs/accuracy.md, "Small objects
-/// against large ones").
+/// under 5 % of their region (a box at 1.1 m behind a panel at 0.5 m). Validation seeds 60000-60299: 1 % and 2 % found
+/// the same five objects more (and a slightly longer range tail); 0 % (min_area_px alone) no object more than 2 %, one
+/// false detection more and a longer range and position tail (docs/accuracy.md, "Small objects against large ones").
 constexpr double kMinPieceShare = 0.02, kMaxPieceShare = 0.8;
 
 /// Where `bgr`'s chromaticity steps (ProposalConfig::piece_step) inside `area` (a rectangle of it): CV_8UC1 0/255 of
