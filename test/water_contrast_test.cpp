@@ -244,9 +244,16 @@ ProposedAndCut proposeAndCut(const cv::Mat& frame, const ProposalConfig& config)
   return out;
 }
 
-/// Whether one of `proposals` has nearly the box `box` (nearlyBox).
+/// The first of `proposals` with nearly the box `box` (nearlyBox), or nullptr.
+const BlobProposal* firstNearly(const std::vector<BlobProposal>& proposals, const cv::Rect& box) {
+  const auto it =
+      std::find_if(proposals.begin(), proposals.end(), [&](const BlobProposal& b) { return nearlyBox(b.roi, box); });
+  return it == proposals.end() ? nullptr : &*it;
+}
+
+/// Whether one of `proposals` has nearly the box `box`.
 bool anyNearly(const std::vector<BlobProposal>& proposals, const cv::Rect& box) {
-  return std::any_of(proposals.begin(), proposals.end(), [&](const BlobProposal& b) { return nearlyBox(b.roi, box); });
+  return firstNearly(proposals, box) != nullptr;
 }
 
 }  // namespace
@@ -293,8 +300,8 @@ TEST(BlobProposals, TouchingObjectsOfTwoColoursAreCutIntoPieces) {
 // A buoy against a large panel of another colour: the buoy is cut off as a piece, and so is the rest of their region,
 // the panel, though it holds more than kMaxPieceShare of the region's pixels (once a piece is cut off, the rest is an
 // object too: before session 49 it was no piece, the region holding the buoy's piece stood for neither, and the panel
-// was lost). Also where the buoy, mostly hidden behind a larger panel, holds about 3.5 % of their region's pixels (under
-// 5 % it was no piece before session 53, and a small object against a large near one was lost).
+// was lost). Also where the buoy, mostly hidden behind a larger panel, holds about 3.5 % of their region's pixels
+// (under 5 % it was no piece before session 53, and a small object against a large near one was lost).
 TEST(BlobProposals, TheRestOfARegionAPieceWasCutFromIsAPieceToo) {
   struct BuoyBehindPanel {
     cv::Rect panel, buoy;  // the buoy's part left of the panel
@@ -312,13 +319,9 @@ TEST(BlobProposals, TheRestOfARegionAPieceWasCutFromIsAPieceToo) {
     ProposalConfig config;
     config.min_area_px = 25;
     const ProposedAndCut cut = proposeAndCut(frame, config);
-    const auto nearly = [](const std::vector<BlobProposal>& proposals, const cv::Rect& box) {
-      return std::find_if(proposals.begin(), proposals.end(),
-                          [&](const BlobProposal& b) { return nearlyBox(b.roi, box); });
-    };
-    const auto region = nearly(cut.regions, c.buoy | c.panel), piece = nearly(cut.pieces, c.buoy);
-    ASSERT_NE(region, cut.regions.end()) << "the pair is one region";
-    ASSERT_NE(piece, cut.pieces.end()) << cut.pieces.size() << " pieces, none on the buoy";
+    const BlobProposal *region = firstNearly(cut.regions, c.buoy | c.panel), *piece = firstNearly(cut.pieces, c.buoy);
+    ASSERT_NE(region, nullptr) << "the pair is one region";
+    ASSERT_NE(piece, nullptr) << cut.pieces.size() << " pieces, none on the buoy";
     const double share = piece->area_px / region->area_px;
     EXPECT_GE(share, c.least_share);
     EXPECT_LT(share, c.most_share);

@@ -288,8 +288,9 @@ std::vector<bool> joinPieces(const std::vector<Candidate>& candidates, const std
 /// Pieces that stood in place of one region of their colour (Candidate::colour_of_its_region) and that stereo found
 /// to be objects apart (in no group of pieces of one object, `grouped`): the nearest hides the others, so its outline
 /// is all its own, and it is measured again as a region is (placed at its silhouette's depth, not at its points';
-/// in its colour, which the check did not rename: Detector::detect's checkUseFor). Its points alone put a partly seen sphere up to a third of its radius near or
-/// far (config/scenes/crossing.yaml: the near buoy 1.90-2.11 m for 2.0 while the far one emerged from behind it).
+/// in its colour, which the check did not rename: Detector::detect's checkUseFor). Its points alone put a partly seen
+/// sphere up to a third of its radius near or far (config/scenes/crossing.yaml: the near buoy 1.90-2.11 m for 2.0 while
+/// the far one emerged from behind it).
 /// Where that measurement fails, the piece's stays. Pieces of two colours keep their points' depth (session 28).
 template <typename MeasureOne>
 void measureFrontPieces(const std::vector<Candidate>& candidates, const std::vector<int>& whole_of,
