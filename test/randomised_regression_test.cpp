@@ -209,3 +209,18 @@ TEST(RandomisedRegression, ARegionTurnedDownAfterStereoGivesWayToItsObjectsOwnVi
     return j.stage == RejectionStage::kTooFewPoints && j.colour == "orange" && (j.roi & found) == found;
   })) << "the turned-down region holding the box is not among the rejections";
 }
+
+// A red plate 0.61 m ahead, 161 px from the image's left edge (validation seed 60023): its disparity (~360 px) puts it
+// out of the right camera's view, so every point block matching finds for it lies on another colour in the right
+// image, none is kept, and the plate is missed. Its record says why in the detector's own words (the rejection's
+// reason), beside the stage.
+TEST(RandomisedRegression, AMissedObjectsRecordCarriesTheRejectionsReason) {
+  const ScoredPair p = detectSampledPair(60023);
+  const tools::ObjectRecord* plate = p.object("red_plane_2");
+  ASSERT_NE(plate, nullptr);
+  ASSERT_TRUE(plate->eligible);
+  ASSERT_FALSE(plate->found);
+  EXPECT_EQ(plate->miss_cause, "too few 3D points");
+  EXPECT_NE(plate->miss_reason.find("matched onto another colour in the right image"), std::string::npos)
+      << plate->miss_reason;
+}

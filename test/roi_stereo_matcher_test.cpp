@@ -180,6 +180,35 @@ TEST(RoiStereoMatcher, SilhouetteDisparityIsThatOfTheSphereOutline) {
   }
 }
 
+TEST(RoiStereoMatcher, ASilhouetteCutByTheLeftFramesRightEdgeIsComparedWhereBothFramesSeeIt) {
+  // A plain red panel facing the head 2 m ahead, in view and reaching beyond the left frame's right edge (where the
+  // right camera sees it run on): its silhouette's disparity is f * B / 2 m within a third of a pixel either way
+  // when the right silhouette is compared only as far as the left frame shows it (in view 0.26 px over, cut 0.01;
+  // before, with the three columns more that kSilhouetteSlackPx lets in at an outline, the cut one was 1.57 short).
+  for (const double x : {0.0, 0.95}) {
+    sim::SceneObject panel;
+    panel.name = "panel";
+    panel.shape = sim::ShapeType::kPanel;
+    panel.colour = "red";
+    panel.albedo = {0.85, 0.08, 0.06};
+    panel.texture = 0;
+    panel.position_m = {x, 0, 2.0};
+    panel.size_m = {0.6, 0.4, 0};
+    const sim::Renderer renderer(sim::test::smallScene(panel));
+    const sim::RenderedPair pair = renderer.render(0, 0);
+    const cv::Rect roi = pair.ground_truth.at(0).roi_left;
+    ASSERT_EQ(roi.br().x == pair.left.cols, x > 0) << "x " << x << ": roi " << roi;
+    cv::Mat left_grey, right_grey;
+    cv::cvtColor(pair.left, left_grey, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(pair.right, right_grey, cv::COLOR_BGR2GRAY);
+    const StereoCalibration calibration = renderer.calibration();
+    const RoiStereoMatcher matcher(calibration, StereoMatchConfig{});
+    const RoiPoints pts = matcher.match(left_grey, right_grey, roi, redMask(pair.left)(roi), redMask(pair.right));
+    EXPECT_NEAR(pts.silhouette_disparity, calibration.focalPx() * calibration.baselineM() / 2.0, 0.35)
+        << (x > 0 ? "cut by the left frame's right edge" : "in view");
+  }
+}
+
 TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
   // A candidate's mask can be one filled piece of the object (here its core) while the right mask holds all
   // of it: their silhouettes do not align. Given the left frame's mask cut as the right one, they do.

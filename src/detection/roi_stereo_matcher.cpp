@@ -33,6 +33,8 @@ constexpr double kMinSilhouetteOverlap = 0.8;
 constexpr int kDisparitySlack = 4;
 /// Columns beyond the aligned left silhouette that still count for the right one's centroid.
 constexpr int kSilhouetteSlackPx = 3;
+/// Steps of the silhouette's sub-pixel disparity refined against the left frame's right edge (silhouetteDisparity).
+constexpr int kFrameEdgeSteps = 3;
 /// The silhouette's whole-pixel shift is searched on every this many rows.
 constexpr int kCoarseRowStep = 4;
 /// A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its surface
@@ -128,6 +130,30 @@ cv::Matx33d rectifiedIntrinsics(const CameraCalibration& c) {
 void buildMaps(const CameraCalibration& c, cv::Mat& map_xy, cv::Mat& map_fraction) {
   cv::initUndistortRectifyMap(cv::Mat(c.K), cv::Mat(c.D), cv::Mat(c.R), cv::Mat(rectifiedIntrinsics(c)),
                               cv::Size(c.width, c.height), CV_16SC2, map_xy, map_fraction);
+}
+
+/// For each rectified row, the column (fractional) where the raw frame's right edge lies: half a pixel beyond its last
+/// column, where a mask ending there fades to half. From the maps' raw x (fixed point: integer + index / 32), which
+/// grows along a row; the rectified row's own end when the raw frame reaches beyond it.
+std::vector<double> frameEndColumns(const cv::Mat& map_xy, const cv::Mat& map_fraction, int raw_width) {
+  const double edge = raw_width - 0.5;
+  auto rawX = [&](int v, int u) {
+    return map_xy.at<cv::Vec2s>(v, u)[0] + (map_fraction.at<std::uint16_t>(v, u) % cv::INTER_TAB_SIZE) /
+                                              static_cast<double>(cv::INTER_TAB_SIZE);
+  };
+  std::vector<double> end(map_xy.rows, map_xy.cols - 0.5);
+  for (int v = 0; v < map_xy.rows; ++v) {
+    int u = map_xy.cols - 1;  // becomes the first column beyond the edge
+    if (rawX(v, u) <= edge) continue;
+    while (u > 0 && rawX(v, u - 1) > edge) --u;
+    if (u == 0) {
+      end[v] = -0.5;
+      continue;
+    }
+    const double a = rawX(v, u - 1), b = rawX(v, u);  // a <= edge < b
+    end[v] = u - 1 + (edge - a) / (b - a);
+  }
+  return end;
 }
 
 /// Remaps `image` (whose origin is at `origin` of the raw frame) through maps already cut to the output's size.
@@ -269,6 +295,7 @@ RoiStereoMatcher::RoiStereoMatcher(const StereoCalibration& calibration, const S
   buildMaps(calibration_.left, left_map_xy_, left_map_fraction_);
   buildMaps(calibration_.right, right_map_xy_, right_map_fraction_);
   left_r_transposed_ = calibration_.left.R.t();
+  left_frame_end_ = frameEndColumns(left_map_xy_, left_map_fraction_, calibration_.left.width);
 }
 
 cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
@@ -564,10 +591,11 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   const int span_x = span.x, span_width = span.width;
   // Column profiles over every `row_step`-th row of left_rect (the right one over columns [right_x0, right_x1)),
   // placed in the columns of `span`.
+  cv::Mat right_band, rows;
   auto profiles = [&](int row_step, int right_x0, int right_x1, std::vector<double>& left, std::vector<double>& right) {
     const cv::Rect right_rect(right_x0, left_rect.y, right_x1 - right_x0, left_rect.height);
     // Bilinear remapping keeps the outline's sub-pixel position in the masks' soft edges.
-    cv::Mat left_band, right_band, rows;
+    cv::Mat left_band;
     remapBand(mask, left_band, everyNthRow(left_map_xy_(left_rect), row_step), everyNthRow(left_map_fraction_(left_rect), row_step),
               roi.tl(), cv::INTER_LINEAR);
     remapBand(right_colour, right_band, everyNthRow(right_map_xy_(right_rect), row_step),
@@ -579,6 +607,23 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
     std::copy(l.begin(), l.end(), left.begin() + (left_rect.x - span_x));
     std::copy(r.begin(), r.end(), right.begin() + (right_x0 - span_x));
   };
+  // The right profile (all rows, over columns from right_x0) of what the left frame also sees at disparity `d`: an
+  // object cut by the left frame's right edge runs on in the right frame, beyond the columns the left one shows.
+  // Per row, the column that edge splits counts in part.
+  auto seenByBoth = [&](int right_x0, double d) {
+    std::vector<double> right(span_width, 0.0);
+    for (int v = 0; v < right_band.rows; ++v) {
+      if (!rows.at<std::uint8_t>(v)) continue;
+      const double end = left_frame_end_[left_rect.y + v] - d;  // the right column the left frame's edge falls on
+      const auto* m = right_band.ptr<std::uint8_t>(v);
+      for (int u = 0; u < right_band.cols; ++u) {
+        const double weight = std::clamp(end - (right_x0 + u - 0.5), 0.0, 1.0);
+        if (weight <= 0) break;
+        right[right_x0 - span_x + u] += weight * m[u];
+      }
+    }
+    return right;
+  };
   // The whole-pixel shift from a quarter of the rows over the whole search range, then the sub-pixel one
   // from all rows over the matched window only.
   std::vector<double> left, right;
@@ -588,7 +633,21 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   const int x0 = std::max(span_x, left_rect.x - shift - kSilhouetteSlackPx - 1);
   const int x1 = std::min(left_rect.br().x - d_lo, left_rect.br().x - shift + kSilhouetteSlackPx + 1);
   profiles(1, x0, x1, left, right);
-  return centroidShift(left, right, shift);
+  // The right profile compared only where the left frame sees the same at the disparity found, which moves where
+  // that is: a fixed point in a few steps (a pixel of disparity moves the edge by a column). Cutting it there takes
+  // out at most the columns kSilhouetteSlackPx lets in beyond an outline, so it moves the disparity by about as
+  // many pixels; a step farther means the centroids hold more than the object (another one in the right mask), and
+  // the plain centroids' disparity stands.
+  const double plain = centroidShift(left, right, shift);
+  // (Far from that edge the right profile is whole at the plain disparity, and every step gives it again.)
+  const double nearest_edge =
+      *std::min_element(left_frame_end_.begin() + left_rect.y, left_frame_end_.begin() + left_rect.br().y);
+  if (!std::isfinite(plain) || nearest_edge - plain >= x1 - 0.5) return plain;
+  double disparity = plain;
+  for (int i = 0; i < kFrameEdgeSteps && std::isfinite(disparity); ++i) {
+    disparity = centroidShift(left, seenByBoth(x0, disparity), shift);
+  }
+  return std::abs(disparity - plain) <= kSilhouetteSlackPx ? disparity : plain;
 }
 
 double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {

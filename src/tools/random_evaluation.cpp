@@ -235,7 +235,10 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   std::vector<int> latest(rec.objects.size(), -1);
   for (const Rejection& r : result.rejected) {
     const int k = lyingOn(r.roi);
-    if (k >= 0) latest[k] = std::max(latest[k], static_cast<int>(r.stage));
+    if (k < 0 || static_cast<int>(r.stage) < latest[k]) continue;
+    if (static_cast<int>(r.stage) > latest[k]) rec.objects[k].miss_reason.clear();
+    latest[k] = static_cast<int>(r.stage);
+    if (rec.objects[k].miss_reason.empty()) rec.objects[k].miss_reason = r.reason;  // the first of that stage
   }
   for (std::size_t k = 0; k < rec.objects.size(); ++k) {
     ObjectRecord& o = rec.objects[k];
@@ -349,6 +352,7 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
           << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
           << ", \"found\": " << (o.found ? "true" : "false");
       if (!o.miss_cause.empty()) out << ", \"miss_cause\": " << quoted(o.miss_cause);
+      if (!o.miss_cause.empty() && !o.miss_reason.empty()) out << ", \"miss_reason\": " << quoted(o.miss_reason);
       if (o.found) {
         out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour)
             << ", \"shape\": " << quoted(shapeName(o.detected_shape))

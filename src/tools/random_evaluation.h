@@ -45,8 +45,9 @@ struct ObjectRecord {
   double position_error = 0.0;      ///< |centre - true centre| / true range (found only)
   std::vector<float> detected_shape_features;  ///< Detection::shape_features (what learn-shapes trains on)
   std::vector<float> detected_check_features;  ///< Detection::check_features (what learn_checks trains on)
-  /// Of a missed eligible object, the last stage that lost it (missCauseNames()).
-  std::string miss_cause;
+  /// Of a missed eligible object, the last stage that lost it (missCauseNames()), and that rejection's own words
+  /// (Rejection::reason, e.g. how many 3D points or the check's score; "" when it gave none).
+  std::string miss_cause, miss_reason;
 };
 
 /// A detection that is no eligible designated object (background, a distractor, a second detection of one object).

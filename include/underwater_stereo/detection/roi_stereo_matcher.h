@@ -104,7 +104,9 @@ class RoiStereoMatcher {
   StereoOrder stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const;
 
  private:
-  /// `box`: the object's rectified box (rectifiedBox(roi)).
+  /// The sub-pixel disparity of the object's outline: the shift of its rectified column profile in the right colour
+  /// mask, compared only as far as the left frame shows the object (one cut by its right edge runs on in the right
+  /// frame); NaN when no shift aligns the two. `box`: the object's rectified box (rectifiedBox(roi)).
   double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
                              const cv::Point& right_colour_origin, const cv::Rect& box) const;
   /// The disparities block matching searches: [min, min + num), num in whole steps of 16.
@@ -150,6 +152,7 @@ class RoiStereoMatcher {
   /// Rectified -> raw pixel, fixed point: CV_16SC2 integer pixel and CV_16UC1 interpolation index.
   cv::Mat left_map_xy_, left_map_fraction_, right_map_xy_, right_map_fraction_;
   cv::Matx33d left_r_transposed_;                                 ///< rectified -> raw left frame
+  std::vector<double> left_frame_end_;  ///< per rectified row, the column where the left raw frame's right edge lies
 };
 
 /// [m] The nearest depth `calibration` matches with `workspace`: workspace.min_depth_m, or farther when the
