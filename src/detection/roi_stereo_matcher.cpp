@@ -33,8 +33,13 @@ constexpr double kMinSilhouetteOverlap = 0.8;
 constexpr int kDisparitySlack = 4;
 /// Columns beyond the aligned left silhouette that still count for the right one's centroid.
 constexpr int kSilhouetteSlackPx = 3;
-/// Steps of the silhouette's sub-pixel disparity refined against the left frame's right edge (silhouetteDisparity).
-constexpr int kFrameEdgeSteps = 3;
+/// The silhouette's sub-pixel disparity refined against the left frame's right edge (silhouetteDisparity): steps until
+/// one moves it less than kFrameEdgeTolerancePx, at most kMaxFrameEdgeSteps; it may end at most kMaxFrameEdgeMovePx
+/// from where it started (the cut takes out the kSilhouetteSlackPx columns let in beyond an outline, worth about as
+/// many pixels of disparity). Not tuned.
+constexpr int kMaxFrameEdgeSteps = 10;
+constexpr double kFrameEdgeTolerancePx = 0.01;
+constexpr double kMaxFrameEdgeMovePx = kSilhouetteSlackPx;
 /// The silhouette's whole-pixel shift is searched on every this many rows.
 constexpr int kCoarseRowStep = 4;
 /// A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its surface
@@ -133,8 +138,8 @@ void buildMaps(const CameraCalibration& c, cv::Mat& map_xy, cv::Mat& map_fractio
 }
 
 /// For each rectified row, the column (fractional) where the raw frame's right edge lies: half a pixel beyond its last
-/// column, where a mask ending there fades to half. From the maps' raw x (fixed point: integer + index / 32), which
-/// grows along a row; the rectified row's own end when the raw frame reaches beyond it.
+/// column, where a mask ending there fades to half. From the maps' raw x (fixed point: the integer pixel plus
+/// (index % 32) / 32), which grows along a row; the rectified row's own end when the raw frame reaches beyond it.
 std::vector<double> frameEndColumns(const cv::Mat& map_xy, const cv::Mat& map_fraction, int raw_width) {
   const double edge = raw_width - 0.5;
   auto rawX = [&](int v, int u) {
@@ -609,7 +614,8 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   };
   // The right profile (all rows, over columns from right_x0) of what the left frame also sees at disparity `d`: an
   // object cut by the left frame's right edge runs on in the right frame, beyond the columns the left one shows.
-  // Per row, the column that edge splits counts in part.
+  // Per row, the column that edge splits counts in part. Reads right_band and rows as the last profiles() left them
+  // (the sub-pixel pass: every row).
   auto seenByBoth = [&](int right_x0, double d) {
     std::vector<double> right(span_width, 0.0);
     for (int v = 0; v < right_band.rows; ++v) {
@@ -634,20 +640,23 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   const int x1 = std::min(left_rect.br().x - d_lo, left_rect.br().x - shift + kSilhouetteSlackPx + 1);
   profiles(1, x0, x1, left, right);
   // The right profile compared only where the left frame sees the same at the disparity found, which moves where
-  // that is: a fixed point in a few steps (a pixel of disparity moves the edge by a column). Cutting it there takes
-  // out at most the columns kSilhouetteSlackPx lets in beyond an outline, so it moves the disparity by about as
-  // many pixels; a step farther means the centroids hold more than the object (another one in the right mask), and
-  // the plain centroids' disparity stands.
+  // that is: its fixed point (a pixel of disparity moves the edge by a column). One that does not settle, or lies
+  // farther from the plain centroids' disparity than the slack columns are worth, means the centroids hold more
+  // than the object (another one in the right mask): the plain disparity stands.
   const double plain = centroidShift(left, right, shift);
   // (Far from that edge the right profile is whole at the plain disparity, and every step gives it again.)
   const double nearest_edge =
       *std::min_element(left_frame_end_.begin() + left_rect.y, left_frame_end_.begin() + left_rect.br().y);
   if (!std::isfinite(plain) || nearest_edge - plain >= x1 - 0.5) return plain;
   double disparity = plain;
-  for (int i = 0; i < kFrameEdgeSteps && std::isfinite(disparity); ++i) {
-    disparity = centroidShift(left, seenByBoth(x0, disparity), shift);
+  for (int i = 0; i < kMaxFrameEdgeSteps; ++i) {
+    const double next = centroidShift(left, seenByBoth(x0, disparity), shift);
+    if (!std::isfinite(next) || std::abs(next - plain) > kMaxFrameEdgeMovePx) return plain;
+    const bool settled = std::abs(next - disparity) < kFrameEdgeTolerancePx;
+    disparity = next;
+    if (settled) return disparity;
   }
-  return std::abs(disparity - plain) <= kSilhouetteSlackPx ? disparity : plain;
+  return plain;
 }
 
 double nearestMatchedDepthM(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {

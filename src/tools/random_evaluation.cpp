@@ -233,12 +233,12 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
   }
   // A missed object's cause: the latest stage that turned down a region on it.
   std::vector<int> latest(rec.objects.size(), -1);
+  std::vector<std::string> reason(rec.objects.size());  // the first rejection's of that stage
   for (const Rejection& r : result.rejected) {
     const int k = lyingOn(r.roi);
-    if (k < 0 || static_cast<int>(r.stage) < latest[k]) continue;
-    if (static_cast<int>(r.stage) > latest[k]) rec.objects[k].miss_reason.clear();
+    if (k < 0 || static_cast<int>(r.stage) <= latest[k]) continue;
     latest[k] = static_cast<int>(r.stage);
-    if (rec.objects[k].miss_reason.empty()) rec.objects[k].miss_reason = r.reason;  // the first of that stage
+    reason[k] = r.reason;
   }
   for (std::size_t k = 0; k < rec.objects.size(); ++k) {
     ObjectRecord& o = rec.objects[k];
@@ -246,6 +246,7 @@ PairRecord evaluatePair(const sim::SampledScene& sampled, const sim::RenderedPai
     o.miss_cause = result.quality.spoiled() ? missCauseNames().front()
                    : latest[k] < 0        ? missCauseNames().back()
                                           : rejectionStageName(static_cast<RejectionStage>(latest[k]));
+    if (!result.quality.spoiled() && latest[k] >= 0) o.miss_reason = reason[k];
   }
   return rec;
 }
@@ -352,7 +353,7 @@ void writeJson(std::ostream& out, const std::vector<PairRecord>& pairs, const st
           << ", \"centre_m\": " << vec(o.centre_m) << ", \"transmission\": " << number(o.transmission)
           << ", \"found\": " << (o.found ? "true" : "false");
       if (!o.miss_cause.empty()) out << ", \"miss_cause\": " << quoted(o.miss_cause);
-      if (!o.miss_cause.empty() && !o.miss_reason.empty()) out << ", \"miss_reason\": " << quoted(o.miss_reason);
+      if (!o.miss_reason.empty()) out << ", \"miss_reason\": " << quoted(o.miss_reason);
       if (o.found) {
         out << ", \"detected\": {\"colour\": " << quoted(o.detected_colour)
             << ", \"shape\": " << quoted(shapeName(o.detected_shape))
