@@ -54,13 +54,17 @@ double medianDepth(const RoiPoints& pts) {
   return z[z.size() / 2];
 }
 
-/// A uniformly coloured red ball (no texture for block matching) on bluish water, 0.3 m across, `depth` ahead:
-/// its grey views, both colour masks as the detector makes them, its roi and the outline's expected disparity
-/// (the tangent circle R^2 / d in front of its centre).
-struct RedBall {
+/// A red object rendered by the small head: its grey views, both colour masks as the detector makes them, its roi and
+/// the head's calibration.
+struct RedViews {
   cv::Mat left, right, left_mask, right_mask;
   cv::Rect roi;
   StereoCalibration calibration;
+};
+
+/// A uniformly coloured red ball (no texture for block matching) on bluish water, 0.3 m across, `depth` ahead, and the
+/// outline's expected disparity (the tangent circle R^2 / d in front of its centre).
+struct RedBall : RedViews {
   double outline_disparity = 0;
 };
 
@@ -71,18 +75,23 @@ cv::Mat redMask(const cv::Mat& bgr) {
   return mask;
 }
 
-RedBall redBallAt(double depth) {
-  sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
-  ball.albedo = {0.85, 0.08, 0.06};
-  const sim::Renderer renderer(sim::test::smallScene(ball));
+RedViews redViewsOf(const sim::SceneObject& object) {
+  const sim::Renderer renderer(sim::test::smallScene(object));
   const sim::RenderedPair pair = renderer.render(0, 0);
-  RedBall out;
+  RedViews out;
   cv::cvtColor(pair.left, out.left, cv::COLOR_BGR2GRAY);
   cv::cvtColor(pair.right, out.right, cv::COLOR_BGR2GRAY);
   out.left_mask = redMask(pair.left);
   out.right_mask = redMask(pair.right);
   out.roi = pair.ground_truth.at(0).roi_left;
   out.calibration = renderer.calibration();
+  return out;
+}
+
+RedBall redBallAt(double depth) {
+  sim::SceneObject ball = sim::test::sphere("ball", {0.1, 0.05, depth}, 0.3);
+  ball.albedo = {0.85, 0.08, 0.06};
+  RedBall out{redViewsOf(ball)};
   const double d = ball.position_m.norm(), r = 0.15;
   out.outline_disparity = out.calibration.focalPx() * out.calibration.baselineM() / (depth * (1 - r * r / (d * d)));
   return out;
@@ -194,16 +203,12 @@ TEST(RoiStereoMatcher, ASilhouetteCutByTheLeftFramesRightEdgeIsComparedWhereBoth
     panel.texture = 0;
     panel.position_m = {x, 0, 2.0};
     panel.size_m = {0.6, 0.4, 0};
-    const sim::Renderer renderer(sim::test::smallScene(panel));
-    const sim::RenderedPair pair = renderer.render(0, 0);
-    const cv::Rect roi = pair.ground_truth.at(0).roi_left;
-    ASSERT_EQ(roi.br().x == pair.left.cols, x > 0) << "x " << x << ": roi " << roi;
-    cv::Mat left_grey, right_grey;
-    cv::cvtColor(pair.left, left_grey, cv::COLOR_BGR2GRAY);
-    cv::cvtColor(pair.right, right_grey, cv::COLOR_BGR2GRAY);
-    const StereoCalibration calibration = renderer.calibration();
+    const RedViews views = redViewsOf(panel);
+    const cv::Rect roi = views.roi;
+    ASSERT_EQ(roi.br().x == views.left.cols, x > 0) << "x " << x << ": roi " << roi;
+    const StereoCalibration& calibration = views.calibration;
     const RoiStereoMatcher matcher(calibration, StereoMatchConfig{});
-    const RoiPoints pts = matcher.match(left_grey, right_grey, roi, redMask(pair.left)(roi), redMask(pair.right));
+    const RoiPoints pts = matcher.match(views.left, views.right, roi, views.left_mask(roi), views.right_mask);
     EXPECT_NEAR(pts.silhouette_disparity, calibration.focalPx() * calibration.baselineM() / 2.0, 0.35)
         << (x > 0 ? "cut by the left frame's right edge" : "in view");
   }
