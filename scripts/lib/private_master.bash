@@ -1,0 +1,39 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# A ROS master of the calling script's own on localhost:PORT, so that the script neither needs nor disturbs a
+# running ROS system (scripts/demo, soak, bench, camera_restarts, check-install-space). Source this after the ROS
+# setup (roscore and rostopic on PATH), and set the script's EXIT trap, calling uws_stop_master, before starting:
+#   uws_start_master WHO PORT LOG [HINT]
+#       exports ROS_HOSTNAME=localhost and ROS_MASTER_URI=http://localhost:PORT; refuses (status 1, "WHO: ..." and
+#       HINT on stderr) when a master already answers there: one left by a killed run would take the script's
+#       launch and hide a failure. Starts roscore (its output in LOG) and returns once the master answers, or
+#       fails with LOG's last lines if roscore exits first (the port taken by something else, say).
+#   uws_stop_master
+#       stops the master started (SIGINT, then waits for it); nothing when none was started, so safe in any trap.
+uws_master_pid=
+
+uws_start_master() {
+  local who=$1 port=$2 log=$3 hint=${4:-}
+  export ROS_HOSTNAME=localhost ROS_MASTER_URI=http://localhost:$port
+  if rostopic list >/dev/null 2>&1; then
+    echo "$who: a ROS master already answers on port $port (left by an earlier run?): stop it${hint:+, $hint}" >&2
+    return 1
+  fi
+  roscore -p "$port" >"$log" 2>&1 &
+  uws_master_pid=$!
+  until rostopic list >/dev/null 2>&1; do
+    if ! kill -0 "$uws_master_pid" 2>/dev/null; then
+      echo "$who: roscore on port $port exited: $(tail -n 3 "$log")" >&2
+      uws_master_pid=
+      return 1
+    fi
+    sleep 0.5
+  done
+}
+
+uws_stop_master() {
+  if [[ -n $uws_master_pid ]]; then
+    kill -INT "$uws_master_pid" 2>/dev/null && wait "$uws_master_pid" 2>/dev/null
+    uws_master_pid=
+  fi
+  return 0
+}
