@@ -389,8 +389,9 @@ TEST(Detector, EmptySceneGivesNothing) {
 }
 
 // The red buoy 2.5 m away with a yellow panel 0.6 m away that hides it from the right camera only (the left one sees
-// it beside the panel's edge): block matching puts the buoy's pixels on the panel (0.58 m without the colour check,
-// stereo.max_colour_difference 1), and the right camera sees them yellow. The buoy is turned down, saying why.
+// it beside the panel's edge): block matching puts the buoy's pixels on the panel (0.58 m without the colour and view
+// checks, stereo.max_colour_difference and max_unseen_share 1), and the right camera sees them yellow. Either check
+// turns the buoy down (the view check first); the colour check alone says why.
 TEST(Detector, AnObjectHiddenFromTheRightCameraIsNotRangedAtWhatHidesIt) {
   sim::Scene scene = twoBuoys();
   scene.objects.pop_back();  // the green buoy (the panel would hide it from both cameras)
@@ -411,18 +412,25 @@ TEST(Detector, AnObjectHiddenFromTheRightCameraIsNotRangedAtWhatHidesIt) {
   const auto onTheBuoy = [&](const cv::Rect& roi) { return buoy.roi_left.contains((roi.tl() + roi.br()) / 2); };
   DetectorConfig unchecked = defaultConfig();
   unchecked.stereo.max_colour_difference = 1;
+  unchecked.stereo.max_unseen_share = 1;
   const DetectionResult before = Detector(unchecked, renderer.calibration()).detect(pair.left, pair.right);
   const auto wrong = std::find_if(before.objects.begin(), before.objects.end(),
                                   [&](const Detection& d) { return onTheBuoy(d.roi); });
   ASSERT_NE(wrong, before.objects.end()) << "the scene no longer shows the case";
   EXPECT_LT(wrong->range_m, 1.0);
 
-  const DetectionResult r = Detector(defaultConfig(), renderer.calibration()).detect(pair.left, pair.right);
-  for (const Detection& d : r.objects) {
-    if (onTheBuoy(d.roi)) {
-      EXPECT_NEAR(d.range_m, buoy.range_m, 0.03 * buoy.range_m) << "no made-up range";
+  for (const double unseen : {1.0, defaultConfig().stereo.max_unseen_share}) {
+    DetectorConfig config = defaultConfig();
+    config.stereo.max_unseen_share = unseen;
+    for (const Detection& d : Detector(config, renderer.calibration()).detect(pair.left, pair.right).objects) {
+      if (onTheBuoy(d.roi)) {
+        EXPECT_NEAR(d.range_m, buoy.range_m, 0.03 * buoy.range_m) << "no made-up range (max_unseen_share " << unseen << ")";
+      }
     }
   }
+  DetectorConfig colour_alone = defaultConfig();  // the view check (max_unseen_share) turns it down first
+  colour_alone.stereo.max_unseen_share = 1;
+  const DetectionResult r = Detector(colour_alone, renderer.calibration()).detect(pair.left, pair.right);
   const auto why = std::find_if(r.rejected.begin(), r.rejected.end(), [&](const Rejection& j) {
     return onTheBuoy(j.roi) && j.reason.find("another colour in the right image") != std::string::npos;
   });

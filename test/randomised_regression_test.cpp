@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "../src/tools/random_evaluation.h"
@@ -109,11 +110,14 @@ struct ScoredPair {
   }
 };
 
-ScoredPair detectSampledPair(std::uint64_t seed) {
+/// The sampled scene of `seed` detected with the shipped config (changed by `edit`) and scored.
+ScoredPair detectSampledPair(std::uint64_t seed, const std::function<void(DetectorConfig&)>& edit = {}) {
   const sim::SampledScene sampled = sim::sampleScene(seed);
   const sim::Renderer head(sampled.scene);
   const sim::RenderedPair pair = head.render(0.0, 0);
-  const Detector detector(loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml"), head.calibration());
+  DetectorConfig config = loadDetectorConfigFile(UWS_SOURCE_DIR "/config/detector.yaml");
+  if (edit) edit(config);
+  const Detector detector(config, head.calibration());
   const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
   ScoredPair out;
   out.result = detector.detect(left, right);
@@ -211,9 +215,9 @@ TEST(RandomisedRegression, ARegionTurnedDownAfterStereoGivesWayToItsObjectsOwnVi
 }
 
 // A red plate 0.61 m ahead, 161 px from the image's left edge (validation seed 60023): its disparity (~360 px) puts it
-// out of the right camera's view, so every point block matching finds for it lies on another colour in the right
-// image, none is kept, and the plate is missed. Its record says why in the detector's own words (the rejection's
-// reason), beside the stage.
+// out of the right camera's view, so no point block matching finds for it stands out from the water in the right
+// image as it does in the left, none is kept, and the plate is missed. Its record says why in the detector's own
+// words (the rejection's reason), beside the stage.
 TEST(RandomisedRegression, AMissedObjectsRecordCarriesTheRejectionsReason) {
   const ScoredPair p = detectSampledPair(60023);
   const tools::ObjectRecord* plate = p.object("red_plane_2");
@@ -221,6 +225,28 @@ TEST(RandomisedRegression, AMissedObjectsRecordCarriesTheRejectionsReason) {
   ASSERT_TRUE(plate->eligible);
   ASSERT_FALSE(plate->found);
   EXPECT_EQ(plate->miss_cause, "too few 3D points");
-  EXPECT_NE(plate->miss_reason.find("matched onto another colour in the right image"), std::string::npos)
-      << plate->miss_reason;
+  EXPECT_NE(plate->miss_reason.find("not seen by the right camera"), std::string::npos) << plate->miss_reason;
+}
+
+// A yellow plate 4.7 m away in green water (development seed 62239), just left of an orange plate 1.05 m ahead that
+// hides it from the right camera. Block matching put its points on the water beside the near plate, which looks like
+// the far plate's faded colour, so the colour check kept them: it was reported at the near plate's range. Where they
+// matched, the right frame does not stand out from the water as the left one does, so it is turned down, saying why.
+TEST(RandomisedRegression, AnObjectTheRightCameraDoesNotSeeIsNotRangedAtWhatHidesIt) {
+  const ScoredPair unchecked = detectSampledPair(62239, [](DetectorConfig& c) { c.stereo.max_unseen_share = 1; });
+  const tools::ObjectRecord* before = unchecked.object("yellow_plane_2");
+  ASSERT_NE(before, nullptr);
+  ASSERT_TRUE(before->eligible);
+  ASSERT_TRUE(before->found) << "the scene no longer shows the case";
+  EXPECT_GT(before->range_error, 0.5);
+
+  const ScoredPair p = detectSampledPair(62239);
+  const tools::ObjectRecord* plate = p.object("yellow_plane_2");
+  ASSERT_NE(plate, nullptr);
+  EXPECT_FALSE(plate->found) << "reported " << plate->detected_range_m << " m away, not " << plate->range_m;
+  EXPECT_NE(plate->miss_reason.find("not seen by the right camera"), std::string::npos) << plate->miss_reason;
+  const tools::ObjectRecord* near = p.object("orange_plane_0");
+  ASSERT_NE(near, nullptr);
+  ASSERT_TRUE(near->found) << "what hides it is still measured";
+  EXPECT_LT(near->range_error, 0.1);
 }

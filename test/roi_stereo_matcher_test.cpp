@@ -320,6 +320,11 @@ TEST(RoiStereoMatcher, BadInputThrows) {
   EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
   EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(10, 10, CV_8UC1), cv::Point(pair.left.cols - 5, 0)),
                std::invalid_argument);
+  ViewAgreement grey_water;  // the view check reads the water's colour
+  grey_water.water = cv::Mat(10, 10, CV_8UC1, cv::Scalar(0));
+  grey_water.level = 8;
+  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, cv::Mat(), cv::Point(), cv::Mat(), grey_water),
+               std::invalid_argument);
 }
 
 TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
@@ -328,7 +333,8 @@ TEST(RoiStereoMatcher, InvalidCalibrationOrConfigIsRefused) {
   bad.min_depth_m = 6.0;
   bad.block_size = 4;
   bad.max_colour_difference = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_EQ(bad.validate().size(), 3U);
+  bad.max_unseen_share = 1.5;
+  EXPECT_EQ(bad.validate().size(), 4U);
   EXPECT_THROW(RoiStereoMatcher(c, bad), std::invalid_argument);
   c.right.P(0, 3) = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(RoiStereoMatcher(c, StereoMatchConfig{}), std::invalid_argument);

@@ -158,6 +158,20 @@ cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect
   return atFullResolution(mask, region, search_scale)(c.roi - region.tl()).clone();
 }
 
+/// How a learned candidate stood out from the water in the left frame's search, for RoiStereoMatcher's view check.
+ViewAgreement viewAgreementOf(const Candidate& c, const FrontEnd& left, const DetectorConfig& config) {
+  const int kind = static_cast<int>(c.saliency_kind);
+  ViewAgreement a;
+  a.water = left.contrast.water;
+  a.water_scale = left.scale;
+  a.median = left.contrast.stats.median[kind];
+  a.spread = left.contrast.stats.spread[kind];
+  a.chroma = c.saliency_kind == SaliencyKind::kChroma;
+  a.ratio_offset = config.learned.water.ratio_offset;
+  a.level = c.saliency_level;
+  return a;
+}
+
 /// `region` grown by what the colour search's blur and morphology reach (so the mask inside it is the
 /// whole frame's), on the searched image's grid (even pixels at half size, every fourth at quarter size: the
 /// right frame's mask then lies on the left one's pixels), inside `frame`; `left`: how the frame was searched.
@@ -491,13 +505,15 @@ DetectionResult Detector::detect2d(const RawFrame& frame) const {
 
 std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                            const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                           const cv::Mat& left_colour, CheckUse check_use, StageTimings& t,
-                                           Rejection& rejected, ObjectOrderEvidence* order) const {
+                                           const cv::Mat& left_colour, const ViewAgreement& agreement,
+                                           CheckUse check_use, StageTimings& t, Rejection& rejected,
+                                           ObjectOrderEvidence* order) const {
   const ColourClass& colour = config_.colours.classes[c.colour_index];
   rejected = Rejection{c.roi, colour.name, c.colour_fraction, RejectionStage::kTooFewPoints, ""};
   const CameraCalibration& cal = matcher_->calibration().left;
   Stopwatch stage;
-  const RoiPoints roi_points = matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin, left_colour);
+  const RoiPoints roi_points =
+      matcher_->match(left, right, c.roi, c.mask, right_colour, right_colour_origin, left_colour, agreement);
   stage.lapMs();
   t.rectify_ms += roi_points.rectify_ms;
   t.matching_ms += roi_points.matching_ms;
@@ -512,6 +528,12 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
                                       matcher_->calibration().focalPx() * matcher_->calibration().baselineM());
   const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, cluster);
   t.cluster_ms += stage.lapMs();
+  if (roi_points.unseen) {
+    rejected.reason = "not seen by the right camera where it matched: " + std::to_string(roi_points.unseen_points) +
+                      " of " + std::to_string(roi_points.compared_points) +
+                      " points do not stand out from the water there (a nearer object hides it from the right camera?)";
+    return std::nullopt;
+  }
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
     rejected.reason = "too few 3D points (" + std::to_string(clusters.empty() ? 0 : clusters.front().size()) + " < " +
                       std::to_string(config_.min_cluster_points) + " in its main cluster, of " +
@@ -655,7 +677,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, use, t, rejected, pair_order);
+    return measure(c, left, right, right_colour, origin, left_colour, learned ? viewAgreementOf(c, front, config_) : ViewAgreement(),
+                   use, t, rejected, pair_order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may

@@ -102,6 +102,41 @@ float chromaDistance(const cv::Vec3f& a, const cv::Vec3f& b) {
   return 0.5F * (std::abs(a[0] / sa - b[0] / sb) + std::abs(a[1] / sa - b[1] / sb) + std::abs(a[2] / sa - b[2] / sb));
 }
 
+/// A point's right view does not show the object when it stands out from the water by less than this share of the
+/// candidate's saliency level (its left view by at least the level: half allows for the views' differences in
+/// shading and for the pixels averaged around each). docs/accuracy.md, "Objects the right camera does not see".
+constexpr double kSeenShareOfLevel = 0.5;
+
+/// Saliency of `colour` against `water` as WaterContrast measures it (Saliencies in water_contrast.cpp): its
+/// contrast's (or chroma's) distance from the frame's median in the frame's spreads.
+double saliencyOf(const cv::Vec3f& colour, const cv::Vec3b& water, const ViewAgreement& a) {
+  cv::Vec3f c;
+  for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::log((colour[k] + a.ratio_offset) / (water[k] + a.ratio_offset)));
+  if (a.chroma) c -= cv::Vec3f::all((c[0] + c[1] + c[2]) / 3.0F);
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double z = (c[k] - a.median[k]) / a.spread[k];
+    sum += z * z;
+  }
+  return std::sqrt(sum);
+}
+
+/// Counts into `out` the points (raw left pixels `left_at`, their views `left` and `right`: coloursAround) whose left
+/// view stands out from the water under it at the candidate's level (compared_points) and whose right view does not
+/// reach kSeenShareOfLevel of it against the same water (unseen_points).
+void countUnseenViews(const std::vector<cv::Point>& left_at, const std::vector<cv::Vec3f>& left,
+                      const std::vector<cv::Vec3f>& right, const ViewAgreement& a, RoiPoints& out) {
+  for (std::size_t i = 0; i < left_at.size(); ++i) {
+    const cv::Point w(std::min(a.water.cols - 1, static_cast<int>(left_at[i].x * a.water_scale)),
+                      std::min(a.water.rows - 1, static_cast<int>(left_at[i].y * a.water_scale)));
+    if (w.x < 0 || w.y < 0) continue;
+    const cv::Vec3b& water = a.water.at<cv::Vec3b>(w);
+    if (saliencyOf(left[i], water, a) < a.level) continue;
+    ++out.compared_points;
+    if (saliencyOf(right[i], water, a) < kSeenShareOfLevel * a.level) ++out.unseen_points;
+  }
+}
+
 /// `n` disparities rounded up to whole steps.
 int roundUpToDisparityStep(int n) { return ((n + kDisparityStep - 1) / kDisparityStep) * kDisparityStep; }
 
@@ -288,6 +323,7 @@ std::vector<std::string> StereoMatchConfig::validate() const {
   if (!(max_colour_difference >= 0 && max_colour_difference <= 1)) {
     p.push_back("stereo.max_colour_difference must be in [0, 1]");
   }
+  if (!(max_unseen_share >= 0 && max_unseen_share <= 1)) p.push_back("stereo.max_unseen_share must be in [0, 1]");
   return p;
 }
 
@@ -318,8 +354,15 @@ cv::Rect RoiStereoMatcher::rectifiedBox(const cv::Rect& raw_roi) const {
 
 RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                                   const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                  const cv::Mat& left_colour) const {
+                                  const cv::Mat& left_colour, const ViewAgreement& agreement) const {
   checkMatchInputs(left, right, roi, mask, right_colour, right_colour_origin, left_colour);
+  if (!agreement.water.empty() &&
+      (agreement.water.type() != CV_8UC3 || !(agreement.water_scale > 0 && agreement.water_scale <= 1) ||
+       !(agreement.level > 0) || !(agreement.spread[0] > 0 && agreement.spread[1] > 0 && agreement.spread[2] > 0) ||
+       !(agreement.ratio_offset > 0))) {
+    throw std::invalid_argument("RoiStereoMatcher::match: the view check needs the water as BGR8 at a scale in (0, 1], "
+                                "a level, spreads and ratio offset > 0");
+  }
   Stopwatch lap;
   const cv::Rect box = rectifiedBox(roi);
   RoiPoints out;
@@ -394,7 +437,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
     }
   }
   out.matching_ms = lap.lapMs();
-  reproject(left, right, mask_band, disparity16, band, out);
+  reproject(left, right, mask_band, disparity16, band, agreement, out);
   out.reprojection_ms = lap.lapMs();
   return out;
 }
@@ -489,7 +532,8 @@ cv::Mat RoiStereoMatcher::blockMatch(const cv::Mat& left_band, const cv::Mat& ri
 }
 
 void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, const cv::Mat& mask_band,
-                                 const cv::Mat& disparity16, const MatchBand& band, RoiPoints& out) const {
+                                 const cv::Mat& disparity16, const MatchBand& band, const ViewAgreement& agreement,
+                                 RoiPoints& out) const {
   const double f = calibration_.focalPx(), baseline = calibration_.baselineM(), nearest = nearestDepthM();
   // Sample on a grid coarse enough to keep at most ~max_points (DBSCAN and fitting cost grow with them).
   const int step = std::max(1, static_cast<int>(std::ceil(std::sqrt(out.mask_pixels / static_cast<double>(config_.max_points)))));
@@ -497,8 +541,9 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
   // A point the two cameras see in other colours was matched onto something else: most often a nearer object that
   // hides this one from the right camera (docs/accuracy.md, "Points the two cameras see in other colours"). Not
   // checked where either frame is grey, or at a limit of 1 or more.
-  const bool check_colour =
-      config_.max_colour_difference < 1 && carriesColour(left.layout()) && carriesColour(right.layout());
+  const bool colour_frames = carriesColour(left.layout()) && carriesColour(right.layout());
+  const bool check_colour = config_.max_colour_difference < 1 && colour_frames;
+  const bool check_views = config_.max_unseen_share < 1 && !agreement.water.empty() && colour_frames;
   std::vector<Eigen::Vector3f> points;
   std::vector<cv::Point> left_at, right_at;  // each point's raw pixel in either frame, when checked
   for (int v = 0; v < mask_band.rows; ++v) {
@@ -515,7 +560,7 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
       const cv::Vec3d rect((u + band.left.x - cx) * z / f, (v + band.left.y - cy) * z / f, z);
       const cv::Vec3d raw = left_r_transposed_ * rect;
       points.emplace_back(static_cast<float>(raw[0]), static_cast<float>(raw[1]), static_cast<float>(raw[2]));
-      if (!check_colour) continue;
+      if (!check_colour && !check_views) continue;
       const int row = v + band.left.y, right_column = static_cast<int>(std::lround(u + band.left.x - disparity));
       const cv::Vec2s l = left_map_xy_.at<cv::Vec2s>(row, u + band.left.x);
       const cv::Vec2s r = right_map_xy_.at<cv::Vec2s>(row, std::min(right_column, right_map_xy_.cols - 1));
@@ -523,11 +568,20 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
       right_at.emplace_back(r[0], r[1]);
     }
   }
-  if (!check_colour) {
+  if (!check_colour && !check_views) {
     out.points = std::move(points);
     return;
   }
   const std::vector<cv::Vec3f> left_colour = coloursAround(left, left_at), right_colour = coloursAround(right, right_at);
+  if (check_views) {
+    countUnseenViews(left_at, left_colour, right_colour, agreement, out);
+    out.unseen = out.unseen_points > config_.max_unseen_share * out.compared_points;
+    if (out.unseen) return;
+  }
+  if (!check_colour) {
+    out.points = std::move(points);
+    return;
+  }
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (chromaDistance(left_colour[i], right_colour[i]) <= config_.max_colour_difference) {
       out.points.push_back(points[i]);

@@ -105,11 +105,11 @@ class Detector {
     bool may_reject = true;
   };
 
-  /// Stereo, clustering and shape of one candidate (the masks as RoiStereoMatcher::match takes them).
+  /// Stereo, clustering and shape of one candidate (the masks and `agreement` as RoiStereoMatcher::match takes them).
   std::optional<Detection> measure(const Candidate& c, const RawFrame& left, const RawFrame& right,
                                    const cv::Mat& right_colour, const cv::Point& right_colour_origin,
-                                   const cv::Mat& left_colour, CheckUse check_use, StageTimings& t,
-                                   Rejection& rejected, ObjectOrderEvidence* order = nullptr) const;
+                                   const cv::Mat& left_colour, const ViewAgreement& agreement, CheckUse check_use,
+                                   StageTimings& t, Rejection& rejected, ObjectOrderEvidence* order = nullptr) const;
 
   DetectorConfig config_;
   DetectorConfig search_config_;  ///< config_ scaled for the 2D search (scaledForSearch at search_scale)

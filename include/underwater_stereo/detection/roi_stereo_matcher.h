@@ -36,8 +36,25 @@ struct StereoMatchConfig {
   /// a nearer object hiding it from the right camera: it is dropped (1: never; nor where either frame is grey, or
   /// too dark to tell there, or the match lies outside either raw frame).
   double max_colour_difference = 0.05;
+  /// A candidate more than this share of whose compared points do not stand out from the water in the right frame
+  /// where they matched (RoiPoints::unseen_points) is not seen there by the right camera: no point is kept. 1: never.
+  double max_unseen_share = 0.5;
 
   std::vector<std::string> validate() const;
+};
+
+/// How a candidate stood out from the water in the left frame (its saliency: WaterContrast), for asking whether the
+/// right frame shows it where its points matched. A point matched onto something else (the water beside the object,
+/// or a nearer object that hides it from the right camera) does not stand out from the water there as the object's
+/// left view does.
+struct ViewAgreement {
+  cv::Mat water;              ///< the left frame's water colour (WaterContrast::water, BGR8); empty: no check
+  double water_scale = 1;     ///< its size over the raw frame's
+  cv::Vec3f median{0, 0, 0};  ///< ContrastStats::median and spread of the kind below
+  cv::Vec3f spread{1, 1, 1};
+  bool chroma = false;        ///< the chroma saliency (SaliencyKind::kChroma), else the full one
+  double ratio_offset = 1;    ///< WaterContrastConfig::ratio_offset: contrast is ln((I + offset) / (water + offset))
+  double level = 0;           ///< the candidate's saliency level [spreads]
 };
 
 /// 3D points of one region, in the left camera's (unrectified) optical frame.
@@ -49,6 +66,12 @@ struct RoiPoints {
   /// Sampled points dropped because the right camera sees them in another colour
   /// (StereoMatchConfig::max_colour_difference).
   int other_colour_points = 0;
+  /// Sampled points whose left view stands out from the water at the candidate's level (ViewAgreement) but whose
+  /// right view, against the same water, not by half of it (`unseen_points`), of those whose left view does
+  /// (`compared_points`). More than StereoMatchConfig::max_unseen_share of them (`unseen`): the right camera does not
+  /// see the object where it was matched (a nearer object hides it), and no point is kept.
+  int unseen_points = 0, compared_points = 0;
+  bool unseen = false;
   /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
   /// and right colour masks (sub-pixel, from the masks' column profiles). A sphere's outline is the tangent
   /// cone around its centre and a cylinder's the tangent lines of its axis, so this is the depth of the centre
@@ -83,9 +106,11 @@ class RoiStereoMatcher {
   /// `mask` (a candidate's mask is one filled region; the right one is cut pixel by pixel: alike, the two
   /// silhouettes align).
   /// @throw std::invalid_argument on wrong types or sizes, or an roi or right_colour outside the image.
+  /// `agreement` (optional: no water to skip; colour frames only): how the object stood out from the water in the
+  /// left frame (RoiPoints::unseen_points).
   RoiPoints match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                   const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point(),
-                  const cv::Mat& left_colour = cv::Mat()) const;
+                  const cv::Mat& left_colour = cv::Mat(), const ViewAgreement& agreement = ViewAgreement()) const;
 
   /// The part of the raw right frame whose colour mask the silhouette disparity of `roi` reads (empty when
   /// the object's right view cannot be in the image).
@@ -135,9 +160,9 @@ class RoiStereoMatcher {
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
   /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`), but those the
-  /// raw frames `left` and `right` show in other colours.
+  /// raw frames `left` and `right` show in other colours, and none when most views disagree (`agreement`).
   void reproject(const RawFrame& left, const RawFrame& right, const cv::Mat& mask_band, const cv::Mat& disparity16,
-                 const MatchBand& band, RoiPoints& out) const;
+                 const MatchBand& band, const ViewAgreement& agreement, RoiPoints& out) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
   bool inWorkspace(double disparity) const;
   /// Disparities [px] of the workspace's far and near ends (the near one at most kMaxSgbmDisparities beyond the far).
