@@ -158,10 +158,12 @@ cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect
   return atFullResolution(mask, region, search_scale)(c.roi - region.tl()).clone();
 }
 
-/// How a learned candidate stood out from the water in the left frame's search, for RoiStereoMatcher's view check.
+/// How a learned candidate stood out from the water in the left frame's search, for RoiStereoMatcher's view check
+/// (none without a level: the colour-mask source's candidates).
 ViewAgreement viewAgreementOf(const Candidate& c, const FrontEnd& left, const DetectorConfig& config) {
   const int kind = static_cast<int>(c.saliency_kind);
   ViewAgreement a;
+  if (!(c.saliency_level > 0) || left.contrast.water.empty()) return a;
   a.water = left.contrast.water;
   a.water_scale = left.scale;
   a.median = left.contrast.stats.median[kind];
@@ -523,17 +525,17 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     if (!order->silhouette) order->order = matcher_->stereoOrder(left, right, c.roi);
     t.matching_ms += stage.lapMs();
   }
-  ClusterConfig cluster = config_.cluster;
-  cluster.eps_m = neighbourhoodRadius(roi_points.points, cluster,
-                                      matcher_->calibration().focalPx() * matcher_->calibration().baselineM());
-  const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, cluster);
-  t.cluster_ms += stage.lapMs();
   if (roi_points.unseen) {
     rejected.reason = "not seen by the right camera where it matched: " + std::to_string(roi_points.unseen_points) +
                       " of " + std::to_string(roi_points.compared_points) +
                       " points do not stand out from the water there (a nearer object hides it from the right camera?)";
     return std::nullopt;
   }
+  ClusterConfig cluster = config_.cluster;
+  cluster.eps_m = neighbourhoodRadius(roi_points.points, cluster,
+                                      matcher_->calibration().focalPx() * matcher_->calibration().baselineM());
+  const std::vector<std::vector<int>> clusters = dbscan(roi_points.points, cluster);
+  t.cluster_ms += stage.lapMs();
   if (clusters.empty() || static_cast<int>(clusters.front().size()) < config_.min_cluster_points) {
     rejected.reason = "too few 3D points (" + std::to_string(clusters.empty() ? 0 : clusters.front().size()) + " < " +
                       std::to_string(config_.min_cluster_points) + " in its main cluster, of " +
@@ -677,8 +679,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
       left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
-    return measure(c, left, right, right_colour, origin, left_colour, learned ? viewAgreementOf(c, front, config_) : ViewAgreement(),
-                   use, t, rejected, pair_order);
+    return measure(c, left, right, right_colour, origin, left_colour, viewAgreementOf(c, front, config_), use, t,
+                   rejected, pair_order);
   };
   // On pair_threads threads of the detector's own (OpenCV may run single-threaded in a busy manager); one
   // object alone on this thread, where OpenCV's own parallel loops (block matching's stripes, remaps) may
