@@ -12,6 +12,7 @@
 #include "underwater_stereo/config/yaml_fields.h"
 #include "underwater_stereo/detection/sgbm_3way_matcher.h"
 #include "underwater_stereo/detection/stopwatch.h"
+#include "underwater_stereo/detection/water_contrast.h"
 
 namespace underwater_stereo {
 namespace {
@@ -72,9 +73,12 @@ constexpr float kMinChromaSum = 30;
 /// A raw frame's colour around each of `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B
 /// and mean G, no demosaicing) averaged over 3x3 cells, so about 6x6 pixels. A point outside the frame is not read:
 /// its colour stays black, too dark to tell (chromaDistance 0).
+/// The part of a raw frame coloursAround reads: its whole 2x2 cells.
+cv::Rect wholeCells(const RawFrame& frame) { return cv::Rect(0, 0, frame.size().width & ~1, frame.size().height & ~1); }
+
 std::vector<cv::Vec3f> coloursAround(const RawFrame& frame, const std::vector<cv::Point>& at) {
   std::vector<cv::Vec3f> out(at.size());
-  const cv::Rect whole(0, 0, frame.size().width & ~1, frame.size().height & ~1);  // on whole 2x2 cells
+  const cv::Rect whole = wholeCells(frame);
   std::vector<cv::Point> inside;
   for (const cv::Point& p : at) {
     if (whole.contains(p)) inside.push_back(p);
@@ -106,13 +110,15 @@ float chromaDistance(const cv::Vec3f& a, const cv::Vec3f& b) {
 /// candidate's saliency level (its left view by at least the level: half allows for the views' differences in
 /// shading and for the pixels averaged around each). docs/accuracy.md, "Objects the right camera does not see".
 constexpr double kSeenShareOfLevel = 0.5;
+/// Fewer compared points than this do not turn an object down: too few to tell a share by.
+constexpr int kMinComparedPoints = 10;
 
 /// Saliency of `colour` against `water` as WaterContrast measures it (Saliencies in water_contrast.cpp): its
 /// contrast's (or chroma's) distance from the frame's median in the frame's spreads.
 double saliencyOf(const cv::Vec3f& colour, const cv::Vec3b& water, const ViewAgreement& a) {
   cv::Vec3f c;
   for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::log((colour[k] + a.ratio_offset) / (water[k] + a.ratio_offset)));
-  if (a.chroma) c -= cv::Vec3f::all((c[0] + c[1] + c[2]) / 3.0F);
+  if (a.chroma) c = chromaOf(c);
   double sum = 0;
   for (int k = 0; k < 3; ++k) {
     const double z = (c[k] - a.median[k]) / a.spread[k];
@@ -121,15 +127,17 @@ double saliencyOf(const cv::Vec3f& colour, const cv::Vec3b& water, const ViewAgr
   return std::sqrt(sum);
 }
 
-/// Counts into `out` the points (raw left pixels `left_at`, their views `left` and `right`: coloursAround) whose left
-/// view stands out from the water under it at the candidate's level (compared_points) and whose right view does not
-/// reach kSeenShareOfLevel of it against the same water (unseen_points).
-void countUnseenViews(const std::vector<cv::Point>& left_at, const std::vector<cv::Vec3f>& left,
+/// Counts into `out` the points (raw pixels `left_at` and `right_at` in frames whose read parts are `left_frame` and
+/// `right_frame`, their views `left` and `right`: coloursAround) whose left view stands out from the water under it at
+/// the candidate's level (compared_points) and whose right view does not reach kSeenShareOfLevel of it against the
+/// same water (unseen_points). A point either frame shows outside the part read is not compared (as the colour check).
+void countUnseenViews(const std::vector<cv::Point>& left_at, const std::vector<cv::Point>& right_at,
+                      const cv::Rect& left_frame, const cv::Rect& right_frame, const std::vector<cv::Vec3f>& left,
                       const std::vector<cv::Vec3f>& right, const ViewAgreement& a, RoiPoints& out) {
   for (std::size_t i = 0; i < left_at.size(); ++i) {
+    if (!left_frame.contains(left_at[i]) || !right_frame.contains(right_at[i])) continue;
     const cv::Point w(std::min(a.water.cols - 1, static_cast<int>(left_at[i].x * a.water_scale)),
                       std::min(a.water.rows - 1, static_cast<int>(left_at[i].y * a.water_scale)));
-    if (w.x < 0 || w.y < 0) continue;
     const cv::Vec3b& water = a.water.at<cv::Vec3b>(w);
     if (saliencyOf(left[i], water, a) < a.level) continue;
     ++out.compared_points;
@@ -574,8 +582,9 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
   }
   const std::vector<cv::Vec3f> left_colour = coloursAround(left, left_at), right_colour = coloursAround(right, right_at);
   if (check_views) {
-    countUnseenViews(left_at, left_colour, right_colour, agreement, out);
-    out.unseen = out.unseen_points > config_.max_unseen_share * out.compared_points;
+    countUnseenViews(left_at, right_at, wholeCells(left), wholeCells(right), left_colour, right_colour, agreement, out);
+    out.unseen = out.compared_points >= kMinComparedPoints &&
+                 out.unseen_points > config_.max_unseen_share * out.compared_points;
     if (out.unseen) return;
   }
   if (!check_colour) {

@@ -64,7 +64,7 @@ enum class RejectionStage {
   kColourNotDesignated,  ///< the model names a colour this configuration does not designate
   kColourUncertain,      ///< its colour's votes under that colour's min_confidence
   kTooManyCandidates,    ///< beyond candidates.max_candidates
-  kTooFewPoints,         ///< too few 3D points in its main cluster
+  kTooFewPoints,         ///< too few 3D points in its main cluster (or none kept: the right camera does not see it)
   kNoFit,                ///< the shape fit gave no finite position or size
   kWrongSize,            ///< metric size outside its colour's configured range
   kCheckAfterStereo,     ///< the check after stereo (colour_model.check_file) takes it for background

@@ -7,7 +7,8 @@
 /// workspace's disparity range), then only the band of rows it covers is rectified (both cameras, only
 /// the raw pixels the band reads are converted to grey), matched with semi-global block matching over the
 /// disparities of the object's expected depth relief around the silhouette's, and its pixels reprojected
-/// to 3D, but those the two raw frames show in other colours (StereoMatchConfig::max_colour_difference).
+/// to 3D, but those the two raw frames show in other colours (StereoMatchConfig::max_colour_difference), and
+/// none when the right camera does not see the object where it matched (StereoMatchConfig::max_unseen_share).
 
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
@@ -37,7 +38,8 @@ struct StereoMatchConfig {
   /// too dark to tell there, or the match lies outside either raw frame).
   double max_colour_difference = 0.05;
   /// A candidate more than this share of whose compared points do not stand out from the water in the right frame
-  /// where they matched (RoiPoints::unseen_points) is not seen there by the right camera: no point is kept. 1: never.
+  /// where they matched (RoiPoints::unseen_points) is not seen there by the right camera: no point is kept. 1: never
+  /// (nor where either frame is grey, or without a ViewAgreement).
   double max_unseen_share = 0.5;
 
   std::vector<std::string> validate() const;
@@ -66,10 +68,11 @@ struct RoiPoints {
   /// Sampled points dropped because the right camera sees them in another colour
   /// (StereoMatchConfig::max_colour_difference).
   int other_colour_points = 0;
-  /// Sampled points whose left view stands out from the water at the candidate's level (ViewAgreement) but whose
-  /// right view, against the same water, not by half of it (`unseen_points`), of those whose left view does
-  /// (`compared_points`). More than StereoMatchConfig::max_unseen_share of them (`unseen`): the right camera does not
-  /// see the object where it was matched (a nearer object hides it), and no point is kept.
+  /// Of the sampled points whose left view stands out from the water at the candidate's level (ViewAgreement;
+  /// `compared_points`, both views inside their raw frames), those whose right view does not stand out from the same
+  /// water by half of it (`unseen_points`). More than StereoMatchConfig::max_unseen_share of them, of at least 10
+  /// compared (`unseen`): the right camera does not see the object where it was matched (a nearer object hides it, or
+  /// it lies beyond the right frame), and no point is kept.
   int unseen_points = 0, compared_points = 0;
   bool unseen = false;
   /// Disparity [px] of the object's colour silhouette: how far its outline shifts between the rectified left
@@ -105,9 +108,10 @@ class RoiStereoMatcher {
   /// size of `roi`): the left frame's mask cut as `right_colour` was, read for the left silhouette instead of
   /// `mask` (a candidate's mask is one filled region; the right one is cut pixel by pixel: alike, the two
   /// silhouettes align).
-  /// @throw std::invalid_argument on wrong types or sizes, or an roi or right_colour outside the image.
   /// `agreement` (optional: no water to skip; colour frames only): how the object stood out from the water in the
   /// left frame (RoiPoints::unseen_points).
+  /// @throw std::invalid_argument on wrong types or sizes, an roi or right_colour outside the image, or an
+  /// `agreement` whose water is not BGR8 or whose scale (0, 1], level, spreads or ratio offset (> 0) are out of range.
   RoiPoints match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                   const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point(),
                   const cv::Mat& left_colour = cv::Mat(), const ViewAgreement& agreement = ViewAgreement()) const;
@@ -160,7 +164,8 @@ class RoiStereoMatcher {
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
   cv::Mat blockMatch(const cv::Mat& left_band, const cv::Mat& right_band, int num_disparities) const;
   /// The mask's matched pixels to 3D points in the raw left frame (counts and points into `out`), but those the
-  /// raw frames `left` and `right` show in other colours, and none when most views disagree (`agreement`).
+  /// raw frames `left` and `right` show in other colours, and none when the right camera does not see the object
+  /// (`agreement`: RoiPoints::unseen).
   void reproject(const RawFrame& left, const RawFrame& right, const cv::Mat& mask_band, const cv::Mat& disparity16,
                  const MatchBand& band, const ViewAgreement& agreement, RoiPoints& out) const;
   /// Whether a disparity [px] lies within the workspace's depths (false for NaN).
