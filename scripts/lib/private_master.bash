@@ -32,7 +32,7 @@ uws_start_master() {
 
 uws_stop_master() {
   if [[ -n $uws_master_pid ]]; then
-    kill -INT "$uws_master_pid" 2>/dev/null && wait "$uws_master_pid" 2>/dev/null || true  # its status is not ours
+    { kill -INT "$uws_master_pid" 2>/dev/null && wait "$uws_master_pid" 2>/dev/null; } || true  # its status is not ours
     uws_master_pid=
   fi
   return 0
