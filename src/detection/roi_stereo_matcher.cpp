@@ -70,12 +70,12 @@ constexpr int kDisparityStep = 16;
 /// Channels summing under this are too dark to tell one chromaticity from another (chromaDistance).
 constexpr float kMinChromaSum = 30;
 
-/// A raw frame's colour around each of `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B
-/// and mean G, no demosaicing) averaged over 3x3 cells, so about 6x6 pixels. A point outside the frame is not read:
-/// its colour stays black, too dark to tell (chromaDistance 0).
 /// The part of a raw frame coloursAround reads: its whole 2x2 cells.
 cv::Rect wholeCells(const RawFrame& frame) { return cv::Rect(0, 0, frame.size().width & ~1, frame.size().height & ~1); }
 
+/// A raw frame's colour around each of `at` (raw pixels): its half-size BGR (2x2 cells averaged; a Bayer cell's R, B
+/// and mean G, no demosaicing) averaged over 3x3 cells, so about 6x6 pixels. A point outside the frame is not read:
+/// its colour stays black, too dark to tell (chromaDistance 0).
 std::vector<cv::Vec3f> coloursAround(const RawFrame& frame, const std::vector<cv::Point>& at) {
   std::vector<cv::Vec3f> out(at.size());
   const cv::Rect whole = wholeCells(frame);
