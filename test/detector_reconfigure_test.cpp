@@ -21,7 +21,7 @@ TEST(DetectorReconfigure, EveryReconfigurableValueGoesThereAndBack) {
     t.set(c, t.integer ? std::floor((t.min + t.max) / 3) : (2 * t.min + t.max) / 3);  // inside, not a default
     ++changed;
   }
-  ASSERT_EQ(changed, 13);
+  ASSERT_EQ(changed, 14);
   DetectorTuningConfig r;
   ros_glue::toReconfigure(c, r);
   const DetectorConfig back = ros_glue::fromReconfigure(DetectorConfig(), r);

@@ -224,8 +224,8 @@ TEST(RandomisedRegression, AMissedObjectsRecordCarriesTheRejectionsReason) {
   ASSERT_NE(plate, nullptr);
   ASSERT_TRUE(plate->eligible);
   ASSERT_FALSE(plate->found);
-  EXPECT_EQ(plate->miss_cause, "too few 3D points");
-  EXPECT_NE(plate->miss_reason.find("not seen by the right camera"), std::string::npos) << plate->miss_reason;
+  EXPECT_EQ(plate->miss_cause, "not seen by the right camera");
+  EXPECT_NE(plate->miss_reason.find("do not stand out from the water there"), std::string::npos) << plate->miss_reason;
 }
 
 // A yellow plate 4.7 m away in green water (development seed 62239), just left of an orange plate 1.05 m ahead that
@@ -244,6 +244,7 @@ TEST(RandomisedRegression, AnObjectTheRightCameraDoesNotSeeIsNotRangedAtWhatHide
   const tools::ObjectRecord* plate = p.object("yellow_plane_2");
   ASSERT_NE(plate, nullptr);
   EXPECT_FALSE(plate->found) << "reported " << plate->detected_range_m << " m away, not " << plate->range_m;
+  EXPECT_EQ(plate->miss_cause, "not seen by the right camera");
   EXPECT_NE(plate->miss_reason.find("not seen by the right camera"), std::string::npos) << plate->miss_reason;
   const tools::ObjectRecord* near = p.object("orange_plane_0");
   ASSERT_NE(near, nullptr);

@@ -301,6 +301,57 @@ TEST(RoiStereoMatcher, PointsTheRightCameraSeesInAnotherColourAreDropped) {
             same.points.size());
 }
 
+TEST(RoiStereoMatcher, PointsWhoseRightViewLooksLikeTheWaterAreUnseen) {
+  // The textured panel at 2 m, reddish in the left view against grey water; the right view shows the same texture
+  // (block matching finds it) in the water's own grey: what a far object hidden from the right camera by the water
+  // beside a nearer object gives. Its points are unseen and none is kept. Seen red by both, with the check off, or
+  // with no point standing out at the level in the left view, every point stays.
+  const GreyPair pair = panelAt(2.0);
+  const cv::Vec3f red(0.4F, 0.4F, 1.0F), grey(1.0F, 1.0F, 1.0F);
+  StereoMatchConfig views_only;
+  views_only.max_colour_difference = 1;  // the colour check off (it too would drop grey): the view check alone
+  const RoiStereoMatcher matcher(pair.calibration, views_only);
+  const cv::Rect roi(300, 180, 60, 50);
+  const cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(255));
+  ViewAgreement water;
+  water.water = cv::Mat(pair.left.size(), CV_8UC3, cv::Scalar::all(100));
+  for (int k = 0; k < 2; ++k) {
+    water.stats.median[k] = cv::Vec3f(0, 0, 0);
+    water.stats.spread[k] = cv::Vec3f(0.05F, 0.05F, 0.05F);
+  }
+  water.kind = SaliencyKind::kChroma;
+  water.ratio_offset = 4;
+  water.level = 8;  // the red view's chroma stands out by about 14 spreads, the grey one's by 0
+  const cv::Mat left = tinted(pair.left, red);
+  const auto matchWith = [&](const RoiStereoMatcher& m, const cv::Vec3f& right_tint, const ViewAgreement& a) {
+    return m.match(left, tinted(pair.right, right_tint), roi, mask, cv::Mat(), cv::Point(), cv::Mat(), a);
+  };
+  const RoiPoints seen = matchWith(matcher, red, water);
+  ASSERT_GT(seen.points.size(), 500U);
+  EXPECT_FALSE(seen.unseen);
+  EXPECT_GT(seen.compared_points, 500);
+  EXPECT_EQ(seen.unseen_points, 0);
+  EXPECT_NEAR(medianDepth(seen), 2.0, 0.02);
+
+  const RoiPoints hidden = matchWith(matcher, grey, water);
+  EXPECT_TRUE(hidden.unseen);
+  EXPECT_TRUE(hidden.points.empty());
+  EXPECT_EQ(hidden.unseen_points, hidden.compared_points);
+
+  StereoMatchConfig off = views_only;
+  off.max_unseen_share = 1;
+  const RoiPoints unchecked = matchWith(RoiStereoMatcher(pair.calibration, off), grey, water);
+  EXPECT_FALSE(unchecked.unseen);
+  EXPECT_EQ(unchecked.points.size(), seen.points.size());
+
+  ViewAgreement higher = water;
+  higher.level = 100;  // no left view stands out so far: nothing compared, nothing turned down
+  const RoiPoints none_compared = matchWith(matcher, grey, higher);
+  EXPECT_EQ(none_compared.compared_points, 0);
+  EXPECT_FALSE(none_compared.unseen);
+  EXPECT_EQ(none_compared.points.size(), seen.points.size());
+}
+
 TEST(RoiStereoMatcher, RoiAtTheLeftEdgeNeitherThrowsNorCrashes) {
   const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});

@@ -161,14 +161,12 @@ cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect
 /// How a learned candidate stood out from the water in the left frame's search, for RoiStereoMatcher's view check
 /// (none without a level: the colour-mask source's candidates).
 ViewAgreement viewAgreementOf(const Candidate& c, const FrontEnd& left, const DetectorConfig& config) {
-  const int kind = static_cast<int>(c.saliency_kind);
   ViewAgreement a;
   if (!(c.saliency_level > 0) || left.contrast.water.empty()) return a;
   a.water = left.contrast.water;
   a.water_scale = left.scale;
-  a.median = left.contrast.stats.median[kind];
-  a.spread = left.contrast.stats.spread[kind];
-  a.chroma = c.saliency_kind == SaliencyKind::kChroma;
+  a.stats = left.contrast.stats;
+  a.kind = c.saliency_kind;
   a.ratio_offset = config.learned.water.ratio_offset;
   a.level = c.saliency_level;
   return a;
@@ -526,6 +524,7 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     t.matching_ms += stage.lapMs();
   }
   if (roi_points.unseen) {
+    rejected.stage = RejectionStage::kNotSeenByRight;
     rejected.reason = "not seen by the right camera where it matched: " + std::to_string(roi_points.unseen_points) +
                       " of " + std::to_string(roi_points.compared_points) +
                       " points do not stand out from the water there (a nearer object hides it from the right camera?)";

@@ -146,7 +146,7 @@ const std::vector<DetectorTunable>& detectorTunables() {
       {"stereo", "max_colour_difference", 0, 1, "max_colour_difference",
        "A point the two cameras see this far apart in chromaticity is dropped (a nearer object hides it; 1: never)",
        UWS_REAL(stereo.max_colour_difference)},
-      {"stereo", "max_unseen_share", 0, 1, nullptr,
+      {"stereo", "max_unseen_share", 0, 1, "max_unseen_share",
        "More of a candidate's points than this share not standing out from the water in the right frame where they "
        "matched: the right camera does not see it (a nearer object hides it), not ranged (1: never)",
        UWS_REAL(stereo.max_unseen_share)},

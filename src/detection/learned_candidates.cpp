@@ -175,7 +175,7 @@ Standing standingFor(const std::vector<BlobProposal>& regions, const std::vector
 }  // namespace
 
 bool turnedDownByStereo(RejectionStage stage) {
-  return stage >= RejectionStage::kTooFewPoints && stage <= RejectionStage::kCheckAfterStereo;
+  return stage >= RejectionStage::kNotSeenByRight && stage <= RejectionStage::kCheckAfterStereo;
 }
 
 std::string rejectionStageName(RejectionStage stage) {
@@ -183,6 +183,7 @@ std::string rejectionStageName(RejectionStage stage) {
     case RejectionStage::kColourNotDesignated: return "colour not designated";
     case RejectionStage::kColourUncertain: return "colour uncertain";
     case RejectionStage::kTooManyCandidates: return "too many candidates";
+    case RejectionStage::kNotSeenByRight: return "not seen by the right camera";
     case RejectionStage::kTooFewPoints: return "too few 3D points";
     case RejectionStage::kNoFit: return "no shape fit";
     case RejectionStage::kWrongSize: return "wrong size";

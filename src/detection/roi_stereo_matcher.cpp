@@ -113,18 +113,14 @@ constexpr double kSeenShareOfLevel = 0.5;
 /// Fewer compared points than this do not turn an object down: too few to tell a share by.
 constexpr int kMinComparedPoints = 10;
 
-/// Saliency of `colour` against `water` as WaterContrast measures it (Saliencies in water_contrast.cpp): its
-/// contrast's (or chroma's) distance from the frame's median in the frame's spreads.
-double saliencyOf(const cv::Vec3f& colour, const cv::Vec3b& water, const ViewAgreement& a) {
-  cv::Vec3f c;
-  for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::log((colour[k] + a.ratio_offset) / (water[k] + a.ratio_offset)));
-  if (a.chroma) c = chromaOf(c);
-  double sum = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double z = (c[k] - a.median[k]) / a.spread[k];
-    sum += z * z;
+/// Whether every spread of `stats` is above 0 (the saliencies divide by them).
+bool positiveSpreads(const ContrastStats& stats) {
+  for (const cv::Vec3f& spread : stats.spread) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(spread[k] > 0)) return false;
+    }
   }
-  return std::sqrt(sum);
+  return true;
 }
 
 /// Counts into `out` the points (raw pixels `left_at` and `right_at` in frames whose read parts are `left_frame` and
@@ -134,14 +130,18 @@ double saliencyOf(const cv::Vec3f& colour, const cv::Vec3b& water, const ViewAgr
 void countUnseenViews(const std::vector<cv::Point>& left_at, const std::vector<cv::Point>& right_at,
                       const cv::Rect& left_frame, const cv::Rect& right_frame, const std::vector<cv::Vec3f>& left,
                       const std::vector<cv::Vec3f>& right, const ViewAgreement& a, RoiPoints& out) {
+  const Saliencies saliency(a.stats);
+  auto saliencyOf = [&](const cv::Vec3f& colour, const cv::Vec3b& water) {
+    return saliency(contrastOf(colour, water, a.ratio_offset), a.kind);
+  };
   for (std::size_t i = 0; i < left_at.size(); ++i) {
     if (!left_frame.contains(left_at[i]) || !right_frame.contains(right_at[i])) continue;
     const cv::Point w(std::min(a.water.cols - 1, static_cast<int>(left_at[i].x * a.water_scale)),
                       std::min(a.water.rows - 1, static_cast<int>(left_at[i].y * a.water_scale)));
     const cv::Vec3b& water = a.water.at<cv::Vec3b>(w);
-    if (saliencyOf(left[i], water, a) < a.level) continue;
+    if (saliencyOf(left[i], water) < a.level) continue;
     ++out.compared_points;
-    if (saliencyOf(right[i], water, a) < kSeenShareOfLevel * a.level) ++out.unseen_points;
+    if (saliencyOf(right[i], water) < kSeenShareOfLevel * a.level) ++out.unseen_points;
   }
 }
 
@@ -366,8 +366,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   checkMatchInputs(left, right, roi, mask, right_colour, right_colour_origin, left_colour);
   if (!agreement.water.empty() &&
       (agreement.water.type() != CV_8UC3 || !(agreement.water_scale > 0 && agreement.water_scale <= 1) ||
-       !(agreement.level > 0) || !(agreement.spread[0] > 0 && agreement.spread[1] > 0 && agreement.spread[2] > 0) ||
-       !(agreement.ratio_offset > 0))) {
+       !(agreement.level > 0) || !positiveSpreads(agreement.stats) || !(agreement.ratio_offset > 0))) {
     throw std::invalid_argument("RoiStereoMatcher::match: the view check needs the water as BGR8 at a scale in (0, 1], "
                                 "a level, spreads and ratio offset > 0");
   }

@@ -120,6 +120,12 @@ cv::Vec3f chromaOf(const cv::Vec3f& contrast) {
   return cv::Vec3f(contrast[0] - mean, contrast[1] - mean, contrast[2] - mean);
 }
 
+cv::Vec3f contrastOf(const cv::Vec3f& colour, const cv::Vec3b& water, double offset) {
+  cv::Vec3f c;
+  for (int k = 0; k < 3; ++k) c[k] = static_cast<float>(std::log((colour[k] + offset) / (water[k] + offset)));
+  return c;
+}
+
 std::vector<std::string> WaterContrastConfig::validate() const {
   std::vector<std::string> p;
   if (!(background_scale >= 0.005 && background_scale <= 0.5)) p.push_back("water.background_scale must be in [0.005, 0.5]");
@@ -142,23 +148,6 @@ float rowMax(const float* v, int n) {
   for (; x < n; ++x) m = std::max(m, v[x]);
   return m;
 }
-
-/// A contrast's two saliencies, chroma and full: its distance from the frame's median in the frame's spreads.
-struct Saliencies {
-  cv::Vec3f m0, m1, k0, k1;  ///< medians and inverse spreads, chroma (0) and full (1)
-  explicit Saliencies(const ContrastStats& stats)
-      : m0(stats.median[0]),
-        m1(stats.median[1]),
-        k0(1.f / stats.spread[0][0], 1.f / stats.spread[0][1], 1.f / stats.spread[0][2]),
-        k1(1.f / stats.spread[1][0], 1.f / stats.spread[1][1], 1.f / stats.spread[1][2]) {}
-  void operator()(const cv::Vec3f& c, float& chroma, float& full) const {
-    const cv::Vec3f h = chromaOf(c);
-    const float a0 = (h[0] - m0[0]) * k0[0], b0 = (h[1] - m0[1]) * k0[1], c0 = (h[2] - m0[2]) * k0[2];
-    const float a1 = (c[0] - m1[0]) * k1[0], b1 = (c[1] - m1[1]) * k1[1], c1 = (c[2] - m1[2]) * k1[2];
-    chroma = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
-    full = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
-  }
-};
 
 /// Objects are looked for in a view of the frame with about this many pixels per window cell along each side
 /// (fine enough to show the rim of an object larger than the window, a few pixels wide).

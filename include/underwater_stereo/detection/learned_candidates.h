@@ -64,7 +64,8 @@ enum class RejectionStage {
   kColourNotDesignated,  ///< the model names a colour this configuration does not designate
   kColourUncertain,      ///< its colour's votes under that colour's min_confidence
   kTooManyCandidates,    ///< beyond candidates.max_candidates
-  kTooFewPoints,         ///< too few 3D points in its main cluster (or none kept: the right camera does not see it)
+  kNotSeenByRight,       ///< the right frame does not show it where its points matched (RoiPoints::unseen)
+  kTooFewPoints,         ///< too few 3D points in its main cluster
   kNoFit,                ///< the shape fit gave no finite position or size
   kWrongSize,            ///< metric size outside its colour's configured range
   kCheckAfterStereo,     ///< the check after stereo (colour_model.check_file) takes it for background
@@ -73,7 +74,7 @@ enum class RejectionStage {
 };
 constexpr int kRejectionStageCount = static_cast<int>(RejectionStage::kPieceOfObject) + 1;
 
-/// Whether `stage` turned a region down after it was measured in 3D (kTooFewPoints to kCheckAfterStereo).
+/// Whether `stage` turned a region down after it was measured in 3D (kNotSeenByRight to kCheckAfterStereo).
 bool turnedDownByStereo(RejectionStage stage);
 
 /// Short name of a stage ("colour uncertain", "too few 3D points"...).

@@ -20,6 +20,7 @@
 
 #include "underwater_stereo/detection/raw_frame.h"
 #include "underwater_stereo/detection/stereo_order.h"
+#include "underwater_stereo/detection/water_contrast.h"
 #include "underwater_stereo/common/stereo_calibration.h"
 
 namespace underwater_stereo {
@@ -52,9 +53,8 @@ struct StereoMatchConfig {
 struct ViewAgreement {
   cv::Mat water;              ///< the left frame's water colour (WaterContrast::water, BGR8); empty: no check
   double water_scale = 1;     ///< its size over the raw frame's
-  cv::Vec3f median{0, 0, 0};  ///< ContrastStats::median and spread of the kind below
-  cv::Vec3f spread{1, 1, 1};
-  bool chroma = false;        ///< the chroma saliency (SaliencyKind::kChroma), else the full one
+  ContrastStats stats;        ///< the left frame's spreads (WaterContrast::stats)
+  SaliencyKind kind = SaliencyKind::kFull;  ///< the candidate's saliency kind
   double ratio_offset = 1;    ///< WaterContrastConfig::ratio_offset: contrast is ln((I + offset) / (water + offset))
   double level = 0;           ///< the candidate's saliency level [spreads]
 };

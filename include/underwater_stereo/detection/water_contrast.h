@@ -12,6 +12,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,34 @@ struct WaterContrast {
 
 /// The chroma of a contrast: minus its mean over the channels (brightness removed).
 cv::Vec3f chromaOf(const cv::Vec3f& contrast);
+
+/// A contrast's two saliencies, chroma and full: its distance from the frame's median in the frame's spreads (what
+/// WaterContrast::saliency holds per pixel; the detector's view check measures single colours with it).
+struct Saliencies {
+  cv::Vec3f m0, m1, k0, k1;  ///< medians and inverse spreads, chroma (0) and full (1)
+  explicit Saliencies(const ContrastStats& stats)
+      : m0(stats.median[0]),
+        m1(stats.median[1]),
+        k0(1.f / stats.spread[0][0], 1.f / stats.spread[0][1], 1.f / stats.spread[0][2]),
+        k1(1.f / stats.spread[1][0], 1.f / stats.spread[1][1], 1.f / stats.spread[1][2]) {}
+  void operator()(const cv::Vec3f& c, float& chroma, float& full) const {
+    const cv::Vec3f h = chromaOf(c);
+    const float a0 = (h[0] - m0[0]) * k0[0], b0 = (h[1] - m0[1]) * k0[1], c0 = (h[2] - m0[2]) * k0[2];
+    const float a1 = (c[0] - m1[0]) * k1[0], b1 = (c[1] - m1[1]) * k1[1], c1 = (c[2] - m1[2]) * k1[2];
+    chroma = std::sqrt(a0 * a0 + b0 * b0 + c0 * c0);
+    full = std::sqrt(a1 * a1 + b1 * b1 + c1 * c1);
+  }
+  /// The saliency of `kind` alone.
+  float operator()(const cv::Vec3f& c, SaliencyKind kind) const {
+    float chroma, full;
+    (*this)(c, chroma, full);
+    return kind == SaliencyKind::kChroma ? chroma : full;
+  }
+};
+
+/// The contrast of one colour (channels may be fractional: an average of pixels) against a water colour:
+/// ln((colour + offset) / (water + offset)) per channel, as WaterContrast::contrast holds it per pixel.
+cv::Vec3f contrastOf(const cv::Vec3f& colour, const cv::Vec3b& water, double offset);
 
 /// Measures `bgr` (8-bit BGR) against its own water and spread, on `threads` threads (workOnThreads; the same
 /// result whatever the number).
