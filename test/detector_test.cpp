@@ -581,7 +581,7 @@ speed: fast
     EXPECT_NE(m.find("colours[2].value: 20.5 is not a whole number"), std::string::npos) << m;
     EXPECT_NE(m.find("'magic' is not colour_mask, grey_threshold or learned"), std::string::npos) << m;
     EXPECT_NE(m.find("candidates.min_area_px: expected a number"), std::string::npos) << m;
-    EXPECT_NE(m.find("stereo: need 0.05 < min_depth_m < max_depth_m"), std::string::npos) << "value problems too: " << m;
+    EXPECT_NE(m.find("stereo: min_depth_m must be under max_depth_m"), std::string::npos) << "value problems too: " << m;
   }
   EXPECT_THROW(parseDetectorConfig(YAML::Load("stereo: {min_depth_m: 6}\ncolours: [{name: red, hue: [0, 10]}]")),
                std::invalid_argument);

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // detectorTunables(): the table's ranges are what DetectorConfig::validate() accepts (each end accepted, one
-// step beyond refused naming the key), and every row is read from YAML into its own field.
+// step beyond refused naming the key and quoting the range), and every row is read from YAML into its own field.
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
+
+#include <opencv2/core.hpp>
 
 #include <cmath>
 #include <map>
@@ -70,8 +72,20 @@ TEST(DetectorTunables, EachEndIsAcceptedAndOneStepBeyondRefused) {
       EXPECT_TRUE(problems.empty()) << t.name() << " = " << end << " (an end of its range) refused: "
                                     << joinProblems("", problems);
     }
-    for (const double beyond : {t.min - step, t.max + step}) {
-      EXPECT_TRUE(names(with(t, beyond).validate(), t)) << t.name() << " = " << beyond << " (beyond its range) accepted";
+    // Refused quoting the table's range in every range message that names it (a component's own check quoting
+    // another range would send the user from one message to the next); a pair's order is a message of its own.
+    const auto text = [](double v, const char* format) { return cv::format(format, v); };
+    const std::string range = "[" + text(t.min, "%g") + ", " + text(t.max, "%g") + "]",  // or written out whole
+        whole = "[" + text(t.min, t.min == std::floor(t.min) ? "%.0f" : "%g") + ", " +
+                text(t.max, t.max == std::floor(t.max) ? "%.0f" : "%g") + "]";
+    for (const double beyond : {t.min - step, t.max + step, t.min - 0.5 * (t.max - t.min), t.max + (t.max - t.min)}) {
+      const auto problems = with(t, beyond).validate();
+      EXPECT_TRUE(names(problems, t)) << t.name() << " = " << beyond << " (beyond its range) accepted";
+      for (const std::string& p : problems) {
+        if (p.find(t.key) != std::string::npos && p.find("must be in") != std::string::npos) {
+          EXPECT_TRUE(p.find(range) != std::string::npos || p.find(whole) != std::string::npos) << t.name() << ": " << p;
+        }
+      }
     }
   }
 }

@@ -3,6 +3,7 @@
 // and the allowed range: image sizes, image files (truncated, corrupt, not images), calibration YAML (shape
 // and plausibility), YAML that is not what it should be.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -229,6 +230,13 @@ TEST(ImageFile, TruncatedCorruptEmptyAndNonImageFilesAreRefusedNamingTheFile) {
   }
   EXPECT_NE(messageOf([] { readImageFile("/nonexistent/x.png"); }).find("/nonexistent/x.png: No such file or directory"), std::string::npos);
   EXPECT_NE(messageOf([] { readImageFile(testing::TempDir()); }).find(": a folder, not a file"), std::string::npos);
+  // A device that never ends, and a pipe with no writer (fopen would wait for one for ever): refused before reading.
+  EXPECT_NE(messageOf([] { readImageFile("/dev/zero"); }).find("/dev/zero: not a regular file"), std::string::npos);
+  const std::string fifo = testing::TempDir() + "/uws_no_writer.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_NE(messageOf([&] { readImageFile(fifo); }).find(fifo + ": not a regular file"), std::string::npos);
+  std::remove(fifo.c_str());
   // A read that fails part way (reading /proc/self/mem from address 0 fails with EIO): the system's reason.
   EXPECT_NE(messageOf([] { readImageFile("/proc/self/mem"); }).find("/proc/self/mem: Input/output error"), std::string::npos)
       << messageOf([] { readImageFile("/proc/self/mem"); });

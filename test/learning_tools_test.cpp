@@ -102,7 +102,8 @@ TEST(LearnColours, AGreyFrameIsRefusedNamingIt) {
 }
 
 // learn_colours refuses, before learning, what would be learnt wrongly or not at all: two images of one frame, an
-// annotation without its image, one frame twice (a copy in another folder), held-out detections asked for without folds, a fractional fold count.
+// annotation without its image, and in the same run a bad label of a frame that was read; one frame twice (a copy in
+// another folder), held-out detections asked for without folds, a fractional fold count.
 TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
   const fs::path dir = fs::temp_directory_path() / ("learn_colours_frames_" + std::to_string(::getpid()));
   fs::create_directories(dir / "images");
@@ -115,12 +116,22 @@ TEST(LearnColours, FramesAndOptionsItCannotLearnFromAreNamed) {
                             "<xmax>100</xmax><ymax>80</ymax></bndbox></object></annotation>";
   std::ofstream(dir / "annotations/frame.xml") << label;
   std::ofstream(dir / "annotations/lost.xml") << label;
+  // A frame read whole whose label is bad twice over: named in the same run as the frames that cannot be read.
+  cv::Mat other = frame.clone();
+  cv::circle(other, {30, 30}, 10, cv::Scalar(30, 200, 200), -1);
+  cv::imwrite((dir / "images/other.png").string(), other);
+  std::ofstream(dir / "annotations/other.xml") << "<annotation><object><name>buoy_purple</name><bndbox><xmin>60</xmin>"
+                                                  "<ymin>40</ymin><xmax>900</xmax><ymax>80</ymax></bndbox></object>"
+                                                  "</annotation>";
   const std::string learn = std::string(UWS_LEARN_COLOURS) + " --images " + (dir / "images").string() +
                             " --annotations " + (dir / "annotations").string() + " --out " + (dir / "out.yaml").string();
   EXPECT_EQ(runTool(learn, dir / "learn.log"), 1);
   const std::string log = readText(dir / "learn.log");
   EXPECT_NE(log.find("frame.png and frame.jpg share the annotation frame.xml"), std::string::npos) << log;
   EXPECT_NE(log.find("annotations/lost.xml: no image of that name"), std::string::npos) << log;
+  EXPECT_NE(log.find("other.png: box 0 (buoy_purple)"), std::string::npos) << log;
+  EXPECT_NE(log.find("names no designated colour"), std::string::npos) << log;
+  EXPECT_NE(log.find("outside the 160x120 image"), std::string::npos) << log;
   // The same frame again, under another name in a second folder: it would be learnt twice.
   fs::create_directories(dir / "more_images");
   fs::create_directories(dir / "more_annotations");

@@ -19,9 +19,15 @@ std::string systemReason(int error, const char* otherwise) {
 using File = std::unique_ptr<std::FILE, int (*)(std::FILE*)>;
 
 File openForReading(const std::string& path) {
-  std::error_code ignored;
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);  // a missing file: fopen says so
   // fopen would open a folder and its first read fail with "Is a directory": said in our words, before reading.
-  if (std::filesystem::is_directory(path, ignored)) throw UnreadableFile(path, "a folder, not a file");
+  if (!error && std::filesystem::is_directory(status)) throw UnreadableFile(path, "a folder, not a file");
+  // A device may never end (/dev/zero: memory grows until it runs out) and a pipe without a writer blocks fopen
+  // for ever: only regular files are read.
+  if (!error && !std::filesystem::is_regular_file(status)) {
+    throw UnreadableFile(path, "not a regular file (a device, pipe or socket, which may never end or block)");
+  }
   errno = 0;
   File file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) throw UnreadableFile(path, systemReason(errno, "cannot be opened"));

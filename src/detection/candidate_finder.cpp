@@ -167,11 +167,12 @@ std::vector<std::string> CandidateConfig::validate() const {
   if (blur_kernel_px < 1 || blur_kernel_px % 2 == 0 || blur_kernel_px > 51) {
     p.push_back("candidates.blur_kernel_px must be odd, in [1, 51]");
   }
-  if (!(min_area_px >= 1 && min_area_px < max_area_px)) {
-    p.push_back("candidates: need 1 <= min_area_px < max_area_px");
-  }
-  if (!(min_colour_fraction > 0 && min_colour_fraction <= 1)) {
-    p.push_back("candidates.min_colour_fraction must be in (0, 1]");
+  // Each range as detectorTunables() gives it (detector_tunables_test checks that they agree), then their order.
+  if (!(min_area_px >= 1 && min_area_px <= 1e6)) p.push_back("candidates.min_area_px must be in [1, 1000000]");
+  if (!(max_area_px >= 2 && max_area_px <= 1e9)) p.push_back("candidates.max_area_px must be in [2, 1000000000]");
+  if (!(min_area_px < max_area_px)) p.push_back("candidates: min_area_px must be under max_area_px");
+  if (!(min_colour_fraction >= 0.01 && min_colour_fraction <= 1)) {
+    p.push_back("candidates.min_colour_fraction must be in [0.01, 1]");
   }
   if (!(max_candidates >= 1 && max_candidates <= 1000)) p.push_back("candidates.max_candidates must be in [1, 1000]");
   return p;

@@ -199,9 +199,10 @@ int colourOfLabel(const std::string& name, const LearningOptions& options) {
                               "); learn it as background with --background " + name + ", or add its colour");
 }
 
-void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
   std::vector<std::string> problems = options.validate();
   std::vector<int> examples(options.colours.size(), 0);
+  std::vector<std::vector<std::string>> too_short(options.colours.size());  // labels of a colour none can teach
   for (const LabelledFrame& f : frames) {
     if (f.image.empty() || f.image.type() != CV_8UC3) {
       problems.push_back(f.name + ": not an 8-bit colour image");
@@ -219,7 +220,10 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
       const std::string where = f.name + ": box " + std::to_string(i) + " (" + l.name + ") " + boxText(l.box);
       try {
         const int colour = colourOfLabel(l.name, options);
-        if (colour >= 0) ++examples[colour];
+        // A label under min_label_px teaches nothing, unless zoomed copies (zoomedIn) make it taller.
+        const bool teaches = l.box.height >= options.min_label_px || options.zoom > 0;
+        if (colour >= 0 && teaches) ++examples[colour];
+        if (colour >= 0 && !teaches) too_short[colour].push_back(where);
       } catch (const std::invalid_argument& e) {
         problems.push_back(where + ": " + e.what());
       }
@@ -231,10 +235,23 @@ void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions
   }
   for (std::size_t k = 0; k < options.colours.size(); ++k) {
     if (examples[k] == 0) {
+      std::string shorter;  // labels under min_label_px teach nothing (learnt from neither as object nor background)
+      for (std::size_t i = 0; i < too_short[k].size() && i < 3; ++i) shorter += (i ? "; " : "") + too_short[k][i];
+      if (too_short[k].size() > 3) shorter += "; ...";
       problems.push_back("colour '" + options.colours[k] + "': no labelled example in " + std::to_string(frames.size()) +
-                         " frames (label some, or leave it out with --colours)");
+                         " frames" +
+                         (too_short[k].empty() ? ""
+                                               : ": its labels are under --min-label-px (" +
+                                                     std::to_string(options.min_label_px) +
+                                                     " px tall), which teach nothing: " + shorter) +
+                         " (label some, or leave it out with --colours)");
     }
   }
+  return problems;
+}
+
+void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+  const std::vector<std::string> problems = labelProblems(frames, options);
   if (!problems.empty()) throw std::invalid_argument(joinProblems("bad labels", problems));
 }
 

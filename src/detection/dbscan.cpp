@@ -10,7 +10,7 @@ namespace underwater_stereo {
 
 std::vector<std::string> ClusterConfig::validate() const {
   std::vector<std::string> p;
-  if (!(eps_m > 0.0 && eps_m <= 1.0)) p.push_back("cluster.eps_m must be in (0, 1]");
+  if (!(eps_m >= 0.001 && eps_m <= 1.0)) p.push_back("cluster.eps_m must be in [0.001, 1]");
   if (min_points < 1 || min_points > 10000) p.push_back("cluster.min_points must be in [1, 10000]");
   if (!(eps_disparity_px >= 0.0 && eps_disparity_px <= 10.0)) p.push_back("cluster.eps_disparity_px must be in [0, 10]");
   return p;

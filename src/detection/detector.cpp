@@ -723,6 +723,15 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     front.candidates[k] = std::move(*front.second_views[retried[i]]);
     if (!front.whole_of.empty()) front.whole_of[k] = -1;
   }
+  // One verdict per object on the pair's order, a second view being the object its candidate was: the candidate's
+  // own, or its second view's where the candidate gave none (no silhouette, no plainly swapped view). Counted apart,
+  // a swapped pair's candidates turned down by stereo and their second views finding a silhouette on a neighbour
+  // outvoted the candidates that looked swapped.
+  for (int i = 0; i < m; ++i) {
+    ObjectOrderEvidence& own = evidence[retried[i]];
+    if (!own.silhouette && !own.order.looksSwapped()) own = evidence[n + i];
+  }
+  evidence.resize(n);
   const PairOrder pair_order = pairOrder(evidence);
   result.looks_swapped = pair_order.looksSwapped();
   if (result.looks_swapped) {

@@ -13,15 +13,21 @@
 namespace underwater_stereo {
 std::vector<std::string> QualityConfig::validate() const {
   std::vector<std::string> p;
-  if (!(too_dark_below >= 0 && too_dark_below < too_bright_above && too_bright_above <= 255)) {
-    p.push_back("quality: need 0 <= too_dark_below < too_bright_above <= 255, got " + std::to_string(too_dark_below) +
+  // Each range as detectorTunables() gives it (detector_tunables_test checks that they agree), then their order.
+  if (!(too_dark_below >= 0 && too_dark_below <= 254)) p.push_back("quality.too_dark_below must be in [0, 254]");
+  if (!(too_bright_above >= 1 && too_bright_above <= 255)) p.push_back("quality.too_bright_above must be in [1, 255]");
+  if (!(too_dark_below < too_bright_above)) {
+    p.push_back("quality: too_dark_below must be under too_bright_above, got " + std::to_string(too_dark_below) +
                 " and " + std::to_string(too_bright_above));
   }
   if (!(enhance_below >= 0 && enhance_below <= 255)) p.push_back("quality.enhance_below must be in [0, 255]");
-  if (dark_pixel_value < 0 || dark_pixel_value >= bright_pixel_value || bright_pixel_value > 255) {
-    p.push_back("quality: need 0 <= dark_pixel_value < bright_pixel_value <= 255");
+  if (dark_pixel_value < 0 || dark_pixel_value > 254) p.push_back("quality.dark_pixel_value must be in [0, 254]");
+  if (bright_pixel_value < 1 || bright_pixel_value > 255) p.push_back("quality.bright_pixel_value must be in [1, 255]");
+  if (dark_pixel_value >= bright_pixel_value) {
+    p.push_back("quality: dark_pixel_value must be under bright_pixel_value, got " + std::to_string(dark_pixel_value) +
+                " and " + std::to_string(bright_pixel_value));
   }
-  if (!(clahe_clip_limit > 0 && clahe_clip_limit <= 100)) p.push_back("quality.clahe_clip_limit must be in (0, 100]");
+  if (!(clahe_clip_limit >= 0.1 && clahe_clip_limit <= 100)) p.push_back("quality.clahe_clip_limit must be in [0.1, 100]");
   if (clahe_tiles < 1 || clahe_tiles > 64) p.push_back("quality.clahe_tiles must be in [1, 64]");
   return p;
 }

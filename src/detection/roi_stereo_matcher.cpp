@@ -319,11 +319,14 @@ cv::Mat rectifiedGrey(const RawFrame& frame, const cv::Mat& map_xy, const cv::Ma
 
 std::vector<std::string> StereoMatchConfig::validate() const {
   std::vector<std::string> p;
-  if (!(min_depth_m > 0.05 && min_depth_m < max_depth_m && max_depth_m <= 100)) {
-    p.push_back("stereo: need 0.05 < min_depth_m < max_depth_m <= 100, got " + std::to_string(min_depth_m) + " and " +
+  // Each range as detectorTunables() gives it (detector_tunables_test checks that they agree), then their order.
+  if (!(min_depth_m >= 0.1 && min_depth_m <= 50)) p.push_back("stereo.min_depth_m must be in [0.1, 50]");
+  if (!(max_depth_m >= 0.2 && max_depth_m <= 100)) p.push_back("stereo.max_depth_m must be in [0.2, 100]");
+  if (!(min_depth_m < max_depth_m)) {
+    p.push_back("stereo: min_depth_m must be under max_depth_m, got " + std::to_string(min_depth_m) + " and " +
                 std::to_string(max_depth_m));
   }
-  if (block_size < 3 || block_size > 11 || block_size % 2 == 0) p.push_back("stereo.block_size must be odd, 3..11");
+  if (block_size < 3 || block_size > 11 || block_size % 2 == 0) p.push_back("stereo.block_size must be odd, in [3, 11]");
   if (uniqueness_ratio < 0 || uniqueness_ratio > 50) p.push_back("stereo.uniqueness_ratio must be in [0, 50]");
   if (margin_px < 0 || margin_px > 200) p.push_back("stereo.margin_px must be in [0, 200]");
   if (erode_px < 0 || erode_px > 50) p.push_back("stereo.erode_px must be in [0, 50]");

@@ -543,10 +543,12 @@ std::vector<float> shapeFeatures(const std::vector<Eigen::Vector3d>& pts, const 
 
 std::vector<std::string> ShapeFitConfig::validate() const {
   std::vector<std::string> p;
-  if (min_points < 3) p.push_back("shape.min_points must be >= 3");
+  if (!(min_points >= 3 && min_points <= 1e6)) p.push_back("shape.min_points must be in [3, 1000000]");
   if (!(plane_preference >= 1.0 && plane_preference <= 10.0)) p.push_back("shape.plane_preference must be in [1, 10]");
   if (!(min_elongation >= 1.0 && min_elongation <= 20.0)) p.push_back("shape.min_elongation must be in [1, 20]");
-  if (!(box_face_contrast > 0 && box_face_contrast <= 1000)) p.push_back("shape.box_face_contrast must be in (0, 1000]");
+  if (!(box_face_contrast >= 0.01 && box_face_contrast <= 1000)) {
+    p.push_back("shape.box_face_contrast must be in [0.01, 1000]");
+  }
   return p;
 }
 

@@ -251,7 +251,7 @@ void refuseOverwritingInputs(const Options& o) {
 }
 
 /// Every frame of every folder pair; every problem (unreadable image or XML, missing annotation, annotation without
-/// image, two images of one name) listed.
+/// image, two images of one name, and then the labels of the frames that were read: labelProblems) listed.
 std::vector<LabelledFrame> readFrames(const Options& o) {
   std::vector<LabelledFrame> frames;
   std::vector<std::string> problems;
@@ -298,7 +298,11 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   }
   refuseRepeatedFrames(frames, problems);
   if (frames.empty() && problems.empty()) problems.push_back("no images found in the --images folders");
-  if (!problems.empty()) throw std::runtime_error(joinProblems("cannot learn from these frames", problems));
+  if (!problems.empty()) {  // the frames read have their labels checked too: every problem is listed at once
+    const std::vector<std::string> labels = labelProblems(frames, o.learning);
+    problems.insert(problems.end(), labels.begin(), labels.end());
+    throw std::runtime_error(joinProblems("cannot learn from these frames", problems));
+  }
   return frames;
 }
 

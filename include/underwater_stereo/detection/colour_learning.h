@@ -63,8 +63,11 @@ struct LearningOptions {
 /// (buoy_red -> red); -1 for a background label. @throw std::invalid_argument for any other name.
 int colourOfLabel(const std::string& name, const LearningOptions& options);
 
-/// Checks every frame's labels (colour or background name, box inside the image, the annotation's declared size
-/// the image's) and that every colour has an example. @throw std::invalid_argument listing every problem with file and box.
+/// What is wrong with the frames' labels (colour or background name, box inside the image, the annotation's declared
+/// size the image's) and the options, and every colour without an example it can learn from (a label under
+/// min_label_px teaches nothing: those are named): each problem with file and box.
+std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
+/// @throw std::invalid_argument listing every labelProblems() when there are any.
 void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
 
 /// `bgr` as if seen through other water, drawn from `seed`: the water's veil over it deepened towards a
