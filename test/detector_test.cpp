@@ -456,6 +456,22 @@ TEST(Detector, APairWithLeftAndRightSwappedIsRejectedAsSuchNotMeasured) {
   EXPECT_EQ(swapped, 2);
 }
 
+// The small pool's two buoys as its cameras send them (Bayer), swapped. Stereo turns the buoys' regions down (their
+// right views do not stand out from the water where they matched), and a skipped view of one is measured in its
+// place and finds a silhouette on the other buoy. Counted as a third object, that view outvoted the buoy that looked
+// swapped, and the pair was measured (scripts/malformed_inputs' "3 pairs in a row" published them): one verdict per
+// object.
+TEST(Detector, ASecondViewIsNoExtraVoteOnThePairsOrder) {
+  const sim::Renderer renderer(sim::loadSceneFile(UWS_SOURCE_DIR "/test/scenes/small_pool.yaml"));
+  const sim::RenderedPair pair = renderer.render(0.0, 0);
+  const RawFrame left(pair.left, pixelLayoutOf(pair.encoding)), right(pair.right, pixelLayoutOf(pair.encoding));
+  const Detector detector(defaultConfig(), renderer.calibration());
+  EXPECT_FALSE(detector.detect(left, right).looks_swapped);
+  const DetectionResult r = detector.detect(right, left);
+  EXPECT_TRUE(r.looks_swapped);
+  EXPECT_TRUE(r.objects.empty());
+}
+
 // A far object: seed 100016's orange panel 4.7 m away (its 1160 stereo points scatter along their rays by stereo's
 // depth step, 10 cm per pixel of disparity there; docs/accuracy.md, "The cluster radius follows stereo's depth step").
 TEST(Detector, AFarObjectsPointsAreClusteredAtTheRadiusOfItsDepthStep) {
