@@ -136,6 +136,7 @@ TEST(RenderScene, BadSamplerOptionsAreNamedAsGiven) {
                {"--focal-mm 0.5,8", "--focal-mm 0.5,8: focal_length_mm"}, {"--baseline-m 0.2,0.1", "--baseline-m 0.2,0.1: baseline_m"},
                {"--focal-mm 8", "--focal-mm: '8' is not LO,HI"},
                {"--size 640x401", "--size 640x401: width and height must be even"},
+               {"--scene config/scenes/ball.yaml", "--scene and --random N are two modes: give one of them"},
                // Beyond an int: refused, not wrapped around to 640x400.
                {"--size 4294967936x4294967696", "--size: '4294967936x4294967696' is not WIDTHxHEIGHT"}};
   for (const auto& c : cases) {

@@ -121,7 +121,10 @@ bool parse(int argc, char** argv, Options& o, std::string& error) {
   for (const std::string& option : given.options()) {
     const std::vector<std::string>& other = random ? kSceneOnly : kRandomOnly;
     if (std::find(other.begin(), other.end(), option) != other.end()) {
-      error = option + (random ? " goes with --scene, not with --random" : " goes with --random N, not with --scene");
+      // --scene and --random themselves name the two modes: given together, they are said to exclude each other.
+      error = option == "--scene" || option == "--random"
+                  ? "--scene and --random N are two modes: give one of them"
+                  : option + (random ? " goes with --scene, not with --random" : " goes with --random N, not with --scene");
       return false;
     }
   }
