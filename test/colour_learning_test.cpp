@@ -339,6 +339,12 @@ TEST(ColourLearning, BadLabelsAreNamedWithFileAndBox) {
                    "which teach nothing: frame_7.jpg: box 2 (green) [40, 40, 50, 50]"),
             std::string::npos)
       << m;
+  // Zoomed copies (up to 2x nearer) make it 20 px tall: it teaches then; a 5-px label does not even so.
+  LearningOptions zoomed = options();
+  zoomed.zoom = 1;
+  EXPECT_EQ(messageOf([&] { checkLabels({f}, zoomed); }).find("colour 'green'"), std::string::npos);
+  f.labels.back().box = cv::Rect(40, 40, 5, 5);
+  EXPECT_NE(messageOf([&] { checkLabels({f}, zoomed); }).find("colour 'green': no labelled example"), std::string::npos);
   LearningOptions with_gate = options();
   with_gate.background_labels = {"gate"};
   EXPECT_EQ(colourOfLabel("gate", with_gate), -1);

@@ -7,8 +7,8 @@ as private_master.bash gives the shell scripts: the script neither needs nor dis
 start_master sets ROS_HOSTNAME=localhost and ROS_MASTER_URI=http://localhost:PORT in os.environ (so rospy and the
 processes started later use it) and refuses, exiting with "WHO: ..." naming the port, when a master already answers
 there: one left by a killed run would take the script's launch and hide a failure. It starts roscore (its output to
-`log`, a file or subprocess.DEVNULL; `extra_env` added to its environment) and returns its Popen once the master
-answers, or exits with roscore's status if roscore exits first (the port taken by something else, say).
+`log`, a file or subprocess.DEVNULL) and returns its Popen once the master answers, or exits with roscore's status
+if roscore exits first (the port taken by something else, say).
 """
 import os
 import subprocess
@@ -18,13 +18,12 @@ import time
 import rosgraph
 
 
-def start_master(who, port, log, extra_env=None):
+def start_master(who, port, log):
     uri = "http://localhost:%d" % port
     os.environ.update(ROS_MASTER_URI=uri, ROS_HOSTNAME="localhost")
     if rosgraph.is_master_online(uri):
         sys.exit("%s: a ROS master already answers on port %d (left by an earlier run?): stop it" % (who, port))
-    core = subprocess.Popen(["roscore", "-p", str(port)], stdout=log, stderr=subprocess.STDOUT,
-                            env=dict(os.environ, **(extra_env or {})))
+    core = subprocess.Popen(["roscore", "-p", str(port)], stdout=log, stderr=subprocess.STDOUT)
     while not rosgraph.is_master_online(uri):
         if core.poll() is not None:
             sys.exit("%s: roscore on port %d exited with status %d" % (who, port, core.returncode))

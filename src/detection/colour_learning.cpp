@@ -24,6 +24,8 @@ constexpr double kIgnoreIou = 0.05;
 /// Two labels of one frame whose boxes share this much of their union label one object twice (a box drawn again a
 /// pixel or two off, perhaps with another colour): never two objects, one hidden exactly behind the other.
 constexpr double kSameObjectIou = 0.9;
+/// zoomedIn() enlarges a frame by a factor drawn from [kMinZoom, kMaxZoom].
+constexpr double kMinZoom = 1.3, kMaxZoom = 2.0;
 
 std::string trimmed(const std::string& s) {
   const std::size_t a = s.find_first_not_of(" \t\r\n"), b = s.find_last_not_of(" \t\r\n");
@@ -199,7 +201,8 @@ int colourOfLabel(const std::string& name, const LearningOptions& options) {
                               "); learn it as background with --background " + name + ", or add its colour");
 }
 
-std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options) {
+std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options,
+                                       bool coverage) {
   std::vector<std::string> problems = options.validate();
   std::vector<int> examples(options.colours.size(), 0);
   std::vector<std::vector<std::string>> too_short(options.colours.size());  // labels of a colour none can teach
@@ -220,8 +223,10 @@ std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames,
       const std::string where = f.name + ": box " + std::to_string(i) + " (" + l.name + ") " + boxText(l.box);
       try {
         const int colour = colourOfLabel(l.name, options);
-        // A label under min_label_px teaches nothing, unless zoomed copies (zoomedIn) make it taller.
-        const bool teaches = l.box.height >= options.min_label_px || options.zoom > 0;
+        // A label under min_label_px teaches nothing, unless zoomed copies (zoomedIn: up to kMaxZoom times nearer)
+        // make it that tall.
+        const bool teaches = l.box.height >= options.min_label_px ||
+                             (options.zoom > 0 && kMaxZoom * l.box.height >= options.min_label_px);
         if (colour >= 0 && teaches) ++examples[colour];
         if (colour >= 0 && !teaches) too_short[colour].push_back(where);
       } catch (const std::invalid_argument& e) {
@@ -233,7 +238,7 @@ std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames,
       }
     }
   }
-  for (std::size_t k = 0; k < options.colours.size(); ++k) {
+  for (std::size_t k = 0; coverage && k < options.colours.size(); ++k) {
     if (examples[k] == 0) {
       std::string shorter;  // labels under min_label_px teach nothing (learnt from neither as object nor background)
       for (std::size_t i = 0; i < too_short[k].size() && i < 3; ++i) shorter += (i ? "; " : "") + too_short[k][i];
@@ -276,7 +281,7 @@ cv::Mat augmentedWater(const cv::Mat& bgr, unsigned seed) {
 
 LabelledFrame zoomedIn(const LabelledFrame& frame, unsigned seed, const LearningOptions& options) {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> scale(1.3, 2.0), unit(0.0, 1.0);
+  std::uniform_real_distribution<double> scale(kMinZoom, kMaxZoom), unit(0.0, 1.0);
   const double s = scale(rng);
   const cv::Size size = frame.image.size();
   cv::Mat larger;

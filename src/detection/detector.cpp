@@ -739,8 +739,9 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
                                std::to_string(n) + " objects' views lie right of their left ones in the right image, " +
                                std::to_string(pair_order.silhouettes) +
                                " found their silhouette where it should be (left and right images the wrong way round?)";
-    // Every view stereo measured or turned down was matched the wrong way round (a point the two cameras see in
-    // other colours is dropped, so a swapped pair's objects may be turned down for too few points).
+    // Every view stereo measured or turned down was matched the wrong way round (its right views do not stand out
+    // from the water where they matched, or show other colours: a swapped pair's objects are mostly turned down as
+    // not seen by the right camera, or for too few points).
     const auto swapped = [&reason](Rejection& r) {
       if (!turnedDownByStereo(r.stage)) return;
       r.stage = RejectionStage::kLeftRightSwapped;

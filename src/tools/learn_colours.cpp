@@ -298,8 +298,8 @@ std::vector<LabelledFrame> readFrames(const Options& o) {
   }
   refuseRepeatedFrames(frames, problems);
   if (frames.empty() && problems.empty()) problems.push_back("no images found in the --images folders");
-  if (!problems.empty()) {  // the frames read have their labels checked too: every problem is listed at once
-    const std::vector<std::string> labels = labelProblems(frames, o.learning);
+  if (!problems.empty()) {  // the frames read have their labels checked too (not yet which colours lack examples)
+    const std::vector<std::string> labels = labelProblems(frames, o.learning, false);
     problems.insert(problems.end(), labels.begin(), labels.end());
     throw std::runtime_error(joinProblems("cannot learn from these frames", problems));
   }

@@ -64,9 +64,11 @@ struct LearningOptions {
 int colourOfLabel(const std::string& name, const LearningOptions& options);
 
 /// What is wrong with the frames' labels (colour or background name, box inside the image, the annotation's declared
-/// size the image's) and the options, and every colour without an example it can learn from (a label under
-/// min_label_px teaches nothing: those are named): each problem with file and box.
-std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
+/// size the image's) and the options, and, with `coverage`, every colour without an example it can learn from (a
+/// label under min_label_px teaches nothing: those are named): each problem with file and box. Without `coverage`
+/// for frames some of which could not be read (their labels unknown).
+std::vector<std::string> labelProblems(const std::vector<LabelledFrame>& frames, const LearningOptions& options,
+                                       bool coverage = true);
 /// @throw std::invalid_argument listing every labelProblems() when there are any.
 void checkLabels(const std::vector<LabelledFrame>& frames, const LearningOptions& options);
 
