@@ -109,6 +109,25 @@ TEST(RoiStereoMatcher, PointsOfAPanelLieAtItsDepth) {
   EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
 }
 
+TEST(RoiStereoMatcher, AnObjectBeyondTheWorkspacesFarEndIsNotMatchedInsideIt) {
+  // A textured panel 7 m ahead, beyond the workspace's 5 m: the half-size search also looks beyond the far end and
+  // finds it there, and nothing is matched at full size (before, it was matched at a wrong disparity inside the
+  // workspace). The same panel at 4.5 m is matched at its depth.
+  const cv::Rect roi(300, 180, 60, 50);
+  const cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(255));
+  const GreyPair far = panelAt(7.0);
+  const RoiStereoMatcher matcher(far.calibration, StereoMatchConfig{});
+  const RoiPoints beyond = matcher.match(far.left, far.right, roi, mask);
+  EXPECT_TRUE(beyond.beyond_far_end);
+  EXPECT_TRUE(beyond.points.empty());
+  EXPECT_EQ(beyond.searched_disparities, 0);
+  const GreyPair inside = panelAt(4.5);
+  const RoiPoints near_end = matcher.match(inside.left, inside.right, roi, mask);
+  EXPECT_FALSE(near_end.beyond_far_end);
+  ASSERT_GT(near_end.points.size(), 500U);
+  EXPECT_NEAR(medianDepth(near_end), 4.5, 0.05);
+}
+
 TEST(RoiStereoMatcher, WithoutASilhouetteAHalfSizeSearchNarrowsTheWindow) {
   const GreyPair pair = panelAt(2.0);
   const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
@@ -225,7 +244,7 @@ TEST(RoiStereoMatcher, SilhouetteIsReadFromTheLeftColourMaskWhenGiven) {
   ASSERT_GT(cv::countNonZero(core), 0);
   const RoiStereoMatcher matcher(ball.calibration, StereoMatchConfig{});
   EXPECT_TRUE(std::isnan(matcher.match(ball.left, ball.right, roi, core, ball.right_mask).silhouette_disparity));
-  const cv::Mat left_colour = ball.left_mask(roi).clone();
+  const cv::Mat left_colour = ball.left_mask(matcher.leftColourRegion(roi)).clone();
   EXPECT_NEAR(matcher.match(ball.left, ball.right, roi, core, ball.right_mask, cv::Point(), left_colour).silhouette_disparity,
               ball.outline_disparity, 0.25);
   EXPECT_THROW(matcher.match(ball.left, ball.right, roi, core, ball.right_mask, cv::Point(), cv::Mat(3, 3, CV_8UC1)),
@@ -263,6 +282,51 @@ TEST(RoiStereoMatcher, AWindowThatMissedTheObjectsDisparityGivesWayToTheWholeWor
   EXPECT_LT(pts.searched_disparities, workspaceDisparities(pair.calibration) / 2);
   ASSERT_GT(pts.points.size(), 500U);
   EXPECT_NEAR(medianDepth(pts), 2.0, 0.02);
+}
+
+TEST(RoiStereoMatcher, ARightSilhouetteThatRunsOnWhereTheLeftFrameShowsNothingIsNoSilhouette) {
+  // A patch of a textured panel 2 m ahead as the candidate. In the right colour mask a much wider patch over the
+  // same rows (a nearer object there, or the candidate's object seen more widely by the right camera): the column
+  // profiles align at every shift that puts the left one inside it, and the one chosen is a guess. Given the left
+  // frame's mask around the candidate (nothing beside it), that silhouette is refused and the whole workspace is
+  // searched: the points lie at the panel's depth.
+  const GreyPair pair = panelAt(2.0);
+  const RoiStereoMatcher matcher(pair.calibration, StereoMatchConfig{});
+  const int disparity = static_cast<int>(std::lround(pair.calibration.focalPx() * pair.calibration.baselineM() / 2.0));
+  const cv::Rect roi(290, 170, 60, 50);
+  const cv::Mat mask(roi.size(), CV_8UC1, cv::Scalar(255));
+  const cv::Rect around = matcher.leftColourRegion(roi);
+  ASSERT_GT(around.width, roi.width);
+  cv::Mat left_colour(around.size(), CV_8UC1, cv::Scalar(0));
+  left_colour(roi - around.tl()).setTo(255);
+  // (Taller than the roi: rectification moves the right frame's rows against the left's; only the rows of the left
+  // silhouette count.)
+  const cv::Rect right_patch(roi.x - disparity, roi.y - 20, roi.width, roi.height + 40);
+  cv::Mat wide(pair.left.size(), CV_8UC1, cv::Scalar(0));
+  wide(cv::Rect(right_patch.x - 120, right_patch.y, right_patch.width + 240, right_patch.height)).setTo(255);
+  const RoiPoints refused = matcher.match(pair.left, pair.right, roi, mask, wide, cv::Point(), left_colour);
+  EXPECT_TRUE(std::isnan(refused.silhouette_disparity)) << refused.silhouette_disparity;
+  ASSERT_GT(refused.points.size(), 500U);
+  EXPECT_NEAR(medianDepth(refused), 2.0, 0.02);
+  // The right patch alone at the panel's disparity: a silhouette (the cameras are turned: its rectified shift is a
+  // few pixels less than the raw one).
+  cv::Mat alone(pair.left.size(), CV_8UC1, cv::Scalar(0));
+  alone(right_patch).setTo(255);
+  const double own = matcher.match(pair.left, pair.right, roi, mask, alone, cv::Point(), left_colour).silhouette_disparity;
+  EXPECT_GT(own, disparity - 10);
+  EXPECT_LT(own, disparity + 1);
+  // A neighbour touching it on the right in both frames: both masks run on alike, and the silhouette stands (the
+  // centroid takes in what the slack columns let in of the neighbour).
+  cv::Mat touching = alone.clone(), left_touching = left_colour.clone();
+  touching(cv::Rect(right_patch.br().x, right_patch.y, 120, right_patch.height)).setTo(255);
+  left_touching(cv::Rect(roi.br().x - around.x, 0, around.br().x - roi.br().x, around.height)).setTo(255);
+  EXPECT_NEAR(matcher.match(pair.left, pair.right, roi, mask, touching, cv::Point(), left_touching).silhouette_disparity,
+              own, 3.0);
+  // Touching only in the right frame: refused.
+  EXPECT_TRUE(std::isnan(matcher.match(pair.left, pair.right, roi, mask, touching, cv::Point(), left_colour).silhouette_disparity));
+  // The left frame's mask must cover leftColourRegion(roi).
+  EXPECT_THROW(matcher.match(pair.left, pair.right, roi, mask, alone, cv::Point(), cv::Mat(mask.size(), CV_8UC1)),
+               std::invalid_argument);
 }
 
 /// A grey view tinted: each pixel's grey g as (b, g, r) = g * `tint`.

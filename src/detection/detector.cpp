@@ -142,11 +142,11 @@ cv::Mat rightSalientMask(const RawFrame& right, const cv::Rect& region, const Fr
   return atFullResolution(salientMask(contrast, c.saliency_kind, c.saliency_level), region, k);
 }
 
-/// The left frame's salient pixels over the candidate's roi (full resolution, soft edges), cut at its saliency
-/// and level from the saliency the search computed: pixel by pixel, as the right frame's are (the candidate's
-/// own mask is one filled region). `region`: colourSearchRegion of the roi, so the cut inside it is the
-/// whole frame's.
-cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect& region) {
+/// The left frame's salient pixels over `around` (full resolution, soft edges; the candidate's roi and what lies
+/// beside it), cut at the candidate's saliency and level from the saliency the search computed: pixel by pixel, as
+/// the right frame's are (the candidate's own mask is one filled region). `region`: colourSearchRegion of `around`,
+/// so the cut inside it is the whole frame's.
+cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect& around, const cv::Rect& region) {
   const double search_scale = left.scale;
   const cv::Size searched = left.contrast.water.size();
   const cv::Rect band = cv::Rect(static_cast<int>(std::lround(region.x * search_scale)),
@@ -155,7 +155,7 @@ cv::Mat leftSalientMask(const FrontEnd& left, const Candidate& c, const cv::Rect
                                  static_cast<int>(std::lround(region.height * search_scale))) &
                         cv::Rect(cv::Point(), searched);
   const cv::Mat mask = salientMask(left.contrast, c.saliency_kind, c.saliency_level, band);
-  return atFullResolution(mask, region, search_scale)(c.roi - region.tl()).clone();
+  return atFullResolution(mask, region, search_scale)(around - region.tl()).clone();
 }
 
 /// How a learned candidate stood out from the water in the left frame's search, for RoiStereoMatcher's view check
@@ -523,6 +523,15 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
     if (!order->silhouette) order->order = matcher_->stereoOrder(left, right, c.roi);
     t.matching_ms += stage.lapMs();
   }
+  if (roi_points.beyond_far_end) {
+    char text[200];
+    std::snprintf(text, sizeof(text), "matched beyond the far end of the workspace (stereo.max_depth_m %.2f m): farther "
+                  "than that, or the two images show no parallax there (one camera's image given for both?)",
+                  config_.stereo.max_depth_m);
+    rejected.stage = RejectionStage::kBeyondFarEnd;
+    rejected.reason = text;
+    return std::nullopt;
+  }
   if (roi_points.unseen) {
     rejected.stage = RejectionStage::kNotSeenByRight;
     rejected.reason = "not seen by the right camera where it matched: " + std::to_string(roi_points.unseen_points) +
@@ -675,7 +684,8 @@ DetectionResult Detector::detect(const RawFrame& left, const RawFrame& right) co
     cv::Mat left_colour;
     if (learned && !right_colour.empty()) {
       Stopwatch colour;
-      left_colour = leftSalientMask(front, c, colourSearchRegion(c.roi, front, left.size()));
+      const cv::Rect around = matcher_->leftColourRegion(c.roi);
+      left_colour = leftSalientMask(front, c, around, colourSearchRegion(around, front, left.size()));
       t.colour_ms += colour.lapMs();
     }
     return measure(c, left, right, right_colour, origin, left_colour, viewAgreementOf(c, front, config_), use, t,

@@ -184,6 +184,7 @@ std::string rejectionStageName(RejectionStage stage) {
     case RejectionStage::kColourUncertain: return "colour uncertain";
     case RejectionStage::kTooManyCandidates: return "too many candidates";
     case RejectionStage::kNotSeenByRight: return "not seen by the right camera";
+    case RejectionStage::kBeyondFarEnd: return "beyond the far end";
     case RejectionStage::kTooFewPoints: return "too few 3D points";
     case RejectionStage::kNoFit: return "no shape fit";
     case RejectionStage::kWrongSize: return "wrong size";

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include "underwater_stereo/config/yaml_fields.h"
@@ -41,6 +42,14 @@ constexpr int kSilhouetteSlackPx = 3;
 constexpr int kMaxFrameEdgeSteps = 10;
 constexpr double kFrameEdgeTolerancePx = 0.01;
 constexpr double kMaxFrameEdgeMovePx = kSilhouetteSlackPx;
+/// A right silhouette that runs on beyond the left one's outline (runsOnBeyondOutline): over this many columns, with
+/// more than this share of the left one's mean column, where the left frame holds less than this share of it. Not
+/// tuned.
+constexpr int kRunOnPx = 6;
+constexpr double kMaxRunOnShare = 0.5;
+/// Columns the left colour mask reaches beyond the roi on either side (leftColourRegion): the columns a run-on is
+/// judged in, and a little more.
+constexpr int kLeftColourMarginPx = kSilhouetteSlackPx + kRunOnPx + 4;
 /// The silhouette's whole-pixel shift is searched on every this many rows.
 constexpr int kCoarseRowStep = 4;
 /// A roughly convex object is about as deep as it is wide, and the half facing the camera is seen: its surface
@@ -63,6 +72,13 @@ constexpr int kMinCoarseMatches = 30;
 /// of its first or last disparity (block matching's best cost at the window's end: the true one lies beyond it).
 /// Chosen on the validation seeds between 0.15 and 0.5 (docs/accuracy.md, "A window that missed").
 constexpr double kMaxWindowEdgeShare = 0.3;
+/// The half-size search of an object without a silhouette also looks beyond the workspace's far end, down to its
+/// disparity over this: an object up to this many times farther is seen there (RoiPoints::beyond_far_end), not
+/// matched at a wrong disparity inside the workspace.
+constexpr int kBeyondFarEndReach = 2;
+/// ... where more than this share of its half-size mask's pixels match within kDisparitySlack of their median. Not
+/// tuned.
+constexpr double kMinFarEndAgreement = 0.5;
 /// Block matching searches disparities in blocks of this many (SgbmParams::num_disparities, as OpenCV's
 /// numDisparities, must be a multiple).
 constexpr int kDisparityStep = 16;
@@ -257,6 +273,34 @@ int bestShift(const std::vector<double>& left, const std::vector<double>& right,
   return best < kMinSilhouetteOverlap ? -1 : best_d;
 }
 
+/// Whether the right profile runs on beyond either end of the left silhouette at `shift` where the left frame does not:
+/// over the kRunOnPx columns beyond the slack past that end, the right profile holds more than kMaxRunOnShare of the
+/// left silhouette's mean column, and the left frame's whole mask there (`left_around`: with what touches the object)
+/// holds less than kMaxRunOnShare of what the right one holds. One object's two silhouettes end alike, or both run
+/// on into what touches it; a right one that runs on alone is another object's (a nearer one in the right mask, found
+/// at a wrong shift), or this object seen more widely by the right camera than by the left (a nearer one hides part of
+/// it from the left camera): the column profiles then overlap at many shifts.
+bool runsOnBeyondOutline(const std::vector<double>& left, const std::vector<double>& left_around,
+                         const std::vector<double>& right, int shift) {
+  const auto [u0, u1] = extent(left);
+  if (u0 < 0) return false;
+  const double mean_column = std::accumulate(left.begin() + u0, left.begin() + u1 + 1, 0.0) / (u1 - u0 + 1);
+  auto at = [](const std::vector<double>& profile, int u) {
+    return u >= 0 && u < static_cast<int>(profile.size()) ? profile[u] : 0.0;
+  };
+  // `end`: the silhouette's first (outward -1) or last (outward 1) column.
+  auto runsOn = [&](int end, int outward) {
+    double beyond_right = 0, beyond_left = 0;
+    for (int k = 0; k < kRunOnPx; ++k) {
+      const int beyond = end + outward * (kSilhouetteSlackPx + 1 + k);
+      beyond_right += at(right, beyond - shift);
+      beyond_left += at(left_around, beyond);
+    }
+    return beyond_right > kMaxRunOnShare * kRunOnPx * mean_column && beyond_left < kMaxRunOnShare * beyond_right;
+  };
+  return runsOn(u0, -1) || runsOn(u1, 1);
+}
+
 /// The shift refined to sub-pixel: the profiles' centroids, the right one's over the window `shift` aligns
 /// with the left silhouette. NaN if either is empty.
 double centroidShift(const std::vector<double>& left, const std::vector<double>& right, int shift) {
@@ -379,12 +423,19 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   // The silhouette's disparity first (masks only, cheap); block matching then searches only a window
   // around it, a fraction of the workspace's range (0.5-5 m: ~400 disparities).
   if (!right_colour.empty()) {
+    const cv::Rect left_colour_region = leftColourRegion(roi);
     out.silhouette_disparity =
-        silhouetteDisparity(left_colour.empty() ? mask : left_colour, roi, right_colour, right_colour_origin, box);
+        left_colour.empty()
+            ? silhouetteDisparity(mask, roi, right_colour, right_colour_origin, box)
+            : silhouetteDisparity(left_colour(roi - left_colour_region.tl()), roi, right_colour, right_colour_origin, box,
+                                  left_colour, left_colour_region.tl());
     // Outside the workspace it is a wrong match (or an object nearer or farther): not trusted.
     if (!inWorkspace(out.silhouette_disparity)) out.silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   }
-  MatchBand band = matchBand(disparityWindow(out.silhouette_disparity, box), box);
+  // Without a silhouette the band reaches beyond the workspace's far end, for the half-size search.
+  MatchBand band = matchBand(std::isfinite(out.silhouette_disparity) ? disparityWindow(out.silhouette_disparity, box)
+                                                                     : workspaceAndBeyond(),
+                             box);
   // Nothing to match: a box beyond the image (a far-fetched calibration), too short for a block or too narrow
   // for the disparities searched.
   auto nothingToMatch = [&](const MatchBand& b) {
@@ -418,6 +469,12 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   // window the full-size one searches.
   if (!std::isfinite(out.silhouette_disparity)) {
     const double coarse = coarseDisparity(left_band, right_band, mask_band, band);
+    // Farther than the workspace (or no parallax there): nothing in it to match.
+    if (coarse < calibration_.focalPx() * calibration_.baselineM() / config_.max_depth_m) {
+      out.beyond_far_end = true;
+      out.rectify_ms += lap.lapMs();
+      return out;
+    }
     if (std::isfinite(coarse)) {
       const MatchBand narrow = matchBand(disparityWindow(coarse, box), box);
       if (!nothingToMatch(narrow)) {
@@ -476,7 +533,18 @@ double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat
   if (static_cast<int>(found.size()) < kMinCoarseMatches) return std::numeric_limits<double>::quiet_NaN();
   std::nth_element(found.begin(), found.begin() + found.size() / 2, found.end());
   const double median = found[found.size() / 2];
-  return inWorkspace(median) ? median : std::numeric_limits<double>::quiet_NaN();
+  const double fb = calibration_.focalPx() * calibration_.baselineM();
+  // Beyond the far end only inside the search (not piled up at its end, where a plain object's matches go) and
+  // where most of the object's pixels match and agree on it (a plain object's few matches scatter, and their median
+  // with them); beyond the near end it is no object's. Neither is trusted otherwise.
+  if (median < fb / config_.max_depth_m) {
+    if (median < band.min_disparity + 2) return std::numeric_limits<double>::quiet_NaN();  // a half-size pixel
+    const auto near_median = std::count_if(found.begin(), found.end(), [median](float d) {
+      return std::abs(d - median) <= kDisparitySlack;
+    });
+    return near_median > kMinFarEndAgreement * cv::countNonZero(m) ? median : std::numeric_limits<double>::quiet_NaN();
+  }
+  return median <= fb / nearestDepthM() ? median : std::numeric_limits<double>::quiet_NaN();
 }
 
 void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi,
@@ -494,8 +562,8 @@ void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& ri
   if (!right_colour.empty() && (right_colour.type() != CV_8UC1 || (right_colour_rect & cv::Rect(cv::Point(), size)) != right_colour_rect)) {
     throw std::invalid_argument("RoiStereoMatcher::match: the right colour mask must be CV_8UC1 and lie in the image");
   }
-  if (!left_colour.empty() && (left_colour.type() != CV_8UC1 || left_colour.size() != roi.size())) {
-    throw std::invalid_argument("RoiStereoMatcher::match: the left colour mask must be CV_8UC1 of the roi's size");
+  if (!left_colour.empty() && (left_colour.type() != CV_8UC1 || left_colour.size() != leftColourRegion(roi).size())) {
+    throw std::invalid_argument("RoiStereoMatcher::match: the left colour mask must be CV_8UC1 of leftColourRegion(roi)'s size");
   }
 }
 
@@ -508,6 +576,12 @@ RoiStereoMatcher::DisparityWindow RoiStereoMatcher::disparityWindow(double silho
   return {std::max(d_lo, static_cast<int>(std::floor(silhouette_disparity - kReliefBehind * relief)) - kDisparitySlack),
           std::min(kMaxSgbmDisparities,
                    roundUpToDisparityStep(static_cast<int>(std::ceil(kReliefSpan * relief)) + 2 * kDisparitySlack))};
+}
+
+RoiStereoMatcher::DisparityWindow RoiStereoMatcher::workspaceAndBeyond() const {
+  const auto [d_lo, d_hi] = workspaceDisparities();
+  const int beyond = std::max(1, d_lo / kBeyondFarEndReach);
+  return {beyond, std::min(kMaxSgbmDisparities, roundUpToDisparityStep(d_hi - beyond))};
 }
 
 RoiStereoMatcher::MatchBand RoiStereoMatcher::matchBand(const DisparityWindow& window, const cv::Rect& box) const {
@@ -648,13 +722,19 @@ cv::Rect RoiStereoMatcher::silhouetteSpan(const cv::Rect& box) const {
   return cv::Rect(x0, left_rect.y, left_rect.br().x - x0, left_rect.height);
 }
 
+cv::Rect RoiStereoMatcher::leftColourRegion(const cv::Rect& roi) const {
+  return cv::Rect(roi.x - kLeftColourMarginPx, roi.y, roi.width + 2 * kLeftColourMarginPx, roi.height) &
+         cv::Rect(0, 0, calibration_.left.width, calibration_.left.height);
+}
+
 cv::Rect RoiStereoMatcher::rightColourRegion(const cv::Rect& roi) const {
   const cv::Rect span = silhouetteSpan(rectifiedBox(roi));
   return span.empty() ? cv::Rect() : sourceRegion(right_map_xy_(span), cv::Size(calibration_.right.width, calibration_.right.height));
 }
 
 double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                                             const cv::Point& right_colour_origin, const cv::Rect& box) const {
+                                             const cv::Point& right_colour_origin, const cv::Rect& box,
+                                             const cv::Mat& around, const cv::Point& around_origin) const {
   const auto [d_lo, d_hi] = workspaceDisparities();
   const cv::Rect left_rect = silhouetteBox(box), span = silhouetteSpan(box);
   if (span.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -701,6 +781,28 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   profiles(kCoarseRowStep, span_x, left_rect.br().x - d_lo, left, right);
   const int shift = bestShift(left, right, d_lo, d_hi);
   if (shift < 0) return std::numeric_limits<double>::quiet_NaN();
+  // The left frame's mask around the object (what touches it too), in the same columns and rows as the whole-pixel
+  // pass's profiles, which are kept to judge a run-on at the sub-pixel disparity. An object the left frame's border
+  // cuts is judged by no run-on: the right frame sees on beyond that border too (beyond the right one, and beyond the
+  // top and bottom ones in rows that rectification pairs with the left frame's outside).
+  const cv::Rect frame(0, 0, calibration_.left.width, calibration_.left.height);
+  const bool cut = roi.x <= 0 || roi.y <= 0 || roi.br().x >= frame.width || roi.br().y >= frame.height;
+  const bool judge_run_on = !around.empty() && !cut;
+  std::vector<double> left_around, whole_left, whole_right;
+  if (judge_run_on) {
+    // (In the columns of `span`, which end where left_rect does, and on beyond it.)
+    const cv::Rect around_rect = cv::Rect(left_rect.x - kLeftColourMarginPx, left_rect.y,
+                                          left_rect.width + 2 * kLeftColourMarginPx, left_rect.height) &
+                                 cv::Rect(span_x, 0, left_map_xy_.cols - span_x, left_map_xy_.rows);
+    cv::Mat around_band;
+    remapBand(around, around_band, everyNthRow(left_map_xy_(around_rect), kCoarseRowStep),
+              everyNthRow(left_map_fraction_(around_rect), kCoarseRowStep), around_origin, cv::INTER_LINEAR);
+    const std::vector<double> a = columnProfile(around_band, rows);
+    left_around.assign(around_rect.br().x - span_x, 0.0);
+    std::copy(a.begin(), a.end(), left_around.begin() + (around_rect.x - span_x));
+    whole_left = left;
+    whole_right = right;
+  }
   const int x0 = std::max(span_x, left_rect.x - shift - kSilhouetteSlackPx - 1);
   const int x1 = std::min(left_rect.br().x - d_lo, left_rect.br().x - shift + kSilhouetteSlackPx + 1);
   profiles(1, x0, x1, left, right);
@@ -709,6 +811,10 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   // farther from the plain centroids' disparity than the slack columns are worth, means the centroids hold more
   // than the object (another one in the right mask): the plain disparity stands.
   const double plain = centroidShift(left, right, shift);
+  if (judge_run_on && std::isfinite(plain) &&
+      runsOnBeyondOutline(whole_left, left_around, whole_right, static_cast<int>(std::lround(plain)))) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   // (Far from that edge the right profile is whole at the plain disparity, and every step gives it again.)
   const double nearest_edge =
       *std::min_element(left_frame_end_.begin() + left_rect.y, left_frame_end_.begin() + left_rect.br().y);

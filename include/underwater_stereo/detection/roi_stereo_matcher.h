@@ -89,6 +89,11 @@ struct RoiPoints {
   /// The window (around the silhouette's or the half-size search's disparity) missed: most matches lay at its ends,
   /// so the whole workspace was searched (searched_disparities counts that search).
   bool window_missed = false;
+  /// Without a silhouette, the half-size search (which also looks beyond the workspace's far end,
+  /// StereoMatchConfig::max_depth_m, to twice its depth) matched the object beyond it: the object lies farther, or
+  /// the two views show no parallax there (one camera's image given for both, nearly). Nothing is matched at full
+  /// size and no point is kept.
+  bool beyond_far_end = false;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
   /// mask), block matching, reprojecting the mask's pixels (with the colour check).
   double rectify_ms = 0, matching_ms = 0, reprojection_ms = 0;
@@ -104,10 +109,12 @@ class RoiStereoMatcher {
   /// converted to grey; the colour check reads both at half size around the sampled points). `right_colour`
   /// (optional: empty to skip) is the raw right
   /// frame's mask of the designated colours, for the silhouette disparity: the whole frame, or a part of it
-  /// at `right_colour_origin` holding at least rightColourRegion(roi). `left_colour` (optional, CV_8UC1 the
-  /// size of `roi`): the left frame's mask cut as `right_colour` was, read for the left silhouette instead of
-  /// `mask` (a candidate's mask is one filled region; the right one is cut pixel by pixel: alike, the two
-  /// silhouettes align).
+  /// at `right_colour_origin` holding at least rightColourRegion(roi). `left_colour` (optional, CV_8UC1 over
+  /// leftColourRegion(roi)): the left frame's mask cut as `right_colour` was, read inside `roi` for the left
+  /// silhouette instead of `mask` (a candidate's mask is one filled region; the right one is cut pixel by pixel:
+  /// alike, the two silhouettes align), and beside it for what touches the object: a right silhouette that runs on
+  /// beyond the left one's outline where the left frame shows nothing is no silhouette of it (a nearer object's,
+  /// or one that hides part of it from the left camera), and the disparity is searched as without one.
   /// `agreement` (optional: no water to skip; colour frames only): how the object stood out from the water in the
   /// left frame (RoiPoints::unseen_points).
   /// @throw std::invalid_argument on wrong types or sizes, an roi or right_colour outside the image, or an
@@ -115,6 +122,9 @@ class RoiStereoMatcher {
   RoiPoints match(const RawFrame& left, const RawFrame& right, const cv::Rect& roi, const cv::Mat& mask,
                   const cv::Mat& right_colour = cv::Mat(), const cv::Point& right_colour_origin = cv::Point(),
                   const cv::Mat& left_colour = cv::Mat(), const ViewAgreement& agreement = ViewAgreement()) const;
+
+  /// The part of the raw left frame whose colour mask match() reads beside `roi`: a few columns more on either side.
+  cv::Rect leftColourRegion(const cv::Rect& roi) const;
 
   /// The part of the raw right frame whose colour mask the silhouette disparity of `roi` reads (empty when
   /// the object's right view cannot be in the image).
@@ -135,9 +145,12 @@ class RoiStereoMatcher {
  private:
   /// The sub-pixel disparity of the object's outline: the shift of its rectified column profile in the right colour
   /// mask, compared only as far as the left frame shows the object (one cut by its right edge runs on in the right
-  /// frame); NaN when no shift aligns the two. `box`: the object's rectified box (rectifiedBox(roi)).
+  /// frame); NaN when no shift aligns the two, or when the right one runs on where the left frame's mask `around`
+  /// (at `around_origin`, over leftColourRegion(roi); empty: not judged) shows nothing. `box`: the object's
+  /// rectified box (rectifiedBox(roi)).
   double silhouetteDisparity(const cv::Mat& mask, const cv::Rect& roi, const cv::Mat& right_colour,
-                             const cv::Point& right_colour_origin, const cv::Rect& box) const;
+                             const cv::Point& right_colour_origin, const cv::Rect& box, const cv::Mat& around = cv::Mat(),
+                             const cv::Point& around_origin = cv::Point()) const;
   /// The disparities block matching searches: [min, min + num), num in whole steps of 16.
   struct DisparityWindow {
     int min = 0, num = 0;
@@ -155,10 +168,14 @@ class RoiStereoMatcher {
   /// Around a finite disparity (the silhouette's, or the half-size search's) by the expected relief of an
   /// object of rectified box `box`; else the whole workspace.
   DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
+  /// The whole workspace and beyond its far end, from half that end's disparity (kBeyondFarEndReach).
+  DisparityWindow workspaceAndBeyond() const;
   /// The band around `box` (plus the margin) that `window` needs, clipped to the image's top, bottom and right.
   MatchBand matchBand(const DisparityWindow& window, const cv::Rect& box) const;
   /// The median disparity of the mask's pixels that block matching at half size matches in `band` (whose bands
-  /// and mask are given at full size); NaN when fewer than kMinCoarseMatches match or it is outside the workspace.
+  /// and mask are given at full size); NaN when fewer than kMinCoarseMatches match, when it lies nearer than the
+  /// workspace's near end, or beyond its far end with most matches away from it (beyond the far end where they
+  /// agree, it is given: RoiPoints::beyond_far_end).
   double coarseDisparity(const cv::Mat& left_band, const cv::Mat& right_band, const cv::Mat& mask_band,
                          const MatchBand& band) const;
   /// Semi-global block matching of the rectified grey bands: CV_16SC1 disparities in 1/16 px (-16: none).
