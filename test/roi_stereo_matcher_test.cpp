@@ -121,6 +121,10 @@ TEST(RoiStereoMatcher, AnObjectBeyondTheWorkspacesFarEndIsNotMatchedInsideIt) {
   EXPECT_TRUE(beyond.beyond_far_end);
   EXPECT_TRUE(beyond.points.empty());
   EXPECT_EQ(beyond.searched_disparities, 0);
+  // A plain panel as far: nothing for block matching to agree on, nothing said about its range (the search goes on
+  // as for any object without a silhouette).
+  const GreyPair plain = panelAt(7.0, 0.0);
+  EXPECT_FALSE(matcher.match(plain.left, plain.right, roi, mask).beyond_far_end);
   const GreyPair inside = panelAt(4.5);
   const RoiPoints near_end = matcher.match(inside.left, inside.right, roi, mask);
   EXPECT_FALSE(near_end.beyond_far_end);

@@ -525,9 +525,8 @@ std::optional<Detection> Detector::measure(const Candidate& c, const RawFrame& l
   }
   if (roi_points.beyond_far_end) {
     char text[200];
-    std::snprintf(text, sizeof(text), "matched beyond the far end of the workspace (stereo.max_depth_m %.2f m): farther "
-                  "than that, or the two images show no parallax there (one camera's image given for both?)",
-                  config_.stereo.max_depth_m);
+    std::snprintf(text, sizeof(text), "matched beyond the far end of the workspace (stereo.max_depth_m %.2f m): "
+                  "farther than that", config_.stereo.max_depth_m);
     rejected.stage = RejectionStage::kBeyondFarEnd;
     rejected.reason = text;
     return std::nullopt;

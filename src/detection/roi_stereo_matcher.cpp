@@ -465,7 +465,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   out.mask_pixels = cv::countNonZero(mask_band);
   out.rectify_ms = lap.lapMs();
   if (out.mask_pixels == 0) return out;
-  // Without a silhouette, a search at half size over the whole workspace (an eighth of the work) sets the
+  // Without a silhouette, a search at half size over the workspace and beyond (an eighth of the work) sets the
   // window the full-size one searches.
   if (!std::isfinite(out.silhouette_disparity)) {
     const double coarse = coarseDisparity(left_band, right_band, mask_band, band);
@@ -534,11 +534,16 @@ double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat
   std::nth_element(found.begin(), found.begin() + found.size() / 2, found.end());
   const double median = found[found.size() / 2];
   const double fb = calibration_.focalPx() * calibration_.baselineM();
-  // Beyond the far end only inside the search (not piled up at its end, where a plain object's matches go) and
-  // where most of the object's pixels match and agree on it (a plain object's few matches scatter, and their median
-  // with them); beyond the near end it is no object's. Neither is trusted otherwise.
+  // Beyond the far end only clearly (its median is good to a half-size pixel), inside the search (not piled up at
+  // its ends, where a plain object's matches go) and where most of the object's pixels match and agree on it (a plain
+  // object's few matches scatter, and their median with them); beyond the near end it is no object's. Neither is
+  // trusted otherwise.
   if (median < fb / config_.max_depth_m) {
-    if (median < band.min_disparity + 2) return std::numeric_limits<double>::quiet_NaN();  // a half-size pixel
+    // A half-size pixel (2 px) clear of the far end and of the search's ends.
+    if (median > fb / config_.max_depth_m - 2 || median < band.min_disparity + 2 ||
+        median > band.min_disparity + band.num_disparities - 2) {
+      return std::numeric_limits<double>::quiet_NaN();
+    }
     const auto near_median = std::count_if(found.begin(), found.end(), [median](float d) {
       return std::abs(d - median) <= kDisparitySlack;
     });
@@ -580,7 +585,8 @@ RoiStereoMatcher::DisparityWindow RoiStereoMatcher::disparityWindow(double silho
 
 RoiStereoMatcher::DisparityWindow RoiStereoMatcher::workspaceAndBeyond() const {
   const auto [d_lo, d_hi] = workspaceDisparities();
-  const int beyond = std::max(1, d_lo / kBeyondFarEndReach);
+  // Only as far beyond as block matching's budget leaves: the workspace's near end is never given up for it.
+  const int beyond = std::max({1, d_lo / kBeyondFarEndReach, d_hi + 1 - kMaxSgbmDisparities});
   return {beyond, std::min(kMaxSgbmDisparities, roundUpToDisparityStep(d_hi - beyond))};
 }
 
@@ -777,16 +783,19 @@ double RoiStereoMatcher::silhouetteDisparity(const cv::Mat& mask, const cv::Rect
   };
   // The whole-pixel shift from a quarter of the rows over the whole search range, then the sub-pixel one
   // from all rows over the matched window only.
+  // (The right profile also over the columns a run-on past the right end is judged in; bestShift reads none of them.)
   std::vector<double> left, right;
-  profiles(kCoarseRowStep, span_x, left_rect.br().x - d_lo, left, right);
+  profiles(kCoarseRowStep, span_x,
+           std::min(left_rect.br().x, left_rect.br().x - d_lo + kSilhouetteSlackPx + kRunOnPx + 1), left, right);
   const int shift = bestShift(left, right, d_lo, d_hi);
   if (shift < 0) return std::numeric_limits<double>::quiet_NaN();
   // The left frame's mask around the object (what touches it too), in the same columns and rows as the whole-pixel
   // pass's profiles, which are kept to judge a run-on at the sub-pixel disparity. An object the left frame's border
   // cuts is judged by no run-on: the right frame sees on beyond that border too (beyond the right one, and beyond the
   // top and bottom ones in rows that rectification pairs with the left frame's outside).
-  const cv::Rect frame(0, 0, calibration_.left.width, calibration_.left.height);
-  const bool cut = roi.x <= 0 || roi.y <= 0 || roi.br().x >= frame.width || roi.br().y >= frame.height;
+  // (Within kLeftColourMarginPx of a side the left frame's mask around it is cut short: as good as cut.)
+  const bool cut = roi.y <= 0 || roi.br().y >= calibration_.left.height ||
+                   leftColourRegion(roi).width < roi.width + 2 * kLeftColourMarginPx;
   const bool judge_run_on = !around.empty() && !cut;
   std::vector<double> left_around, whole_left, whole_right;
   if (judge_run_on) {

@@ -65,7 +65,7 @@ enum class RejectionStage {
   kColourUncertain,      ///< its colour's votes under that colour's min_confidence
   kTooManyCandidates,    ///< beyond candidates.max_candidates
   kNotSeenByRight,       ///< the right frame does not show it where its points matched (RoiPoints::unseen)
-  kBeyondFarEnd,         ///< stereo matched it on the workspace's far end (RoiPoints::beyond_far_end)
+  kBeyondFarEnd,         ///< stereo matched it beyond the workspace's far end (RoiPoints::beyond_far_end)
   kTooFewPoints,         ///< too few 3D points in its main cluster
   kNoFit,                ///< the shape fit gave no finite position or size
   kWrongSize,            ///< metric size outside its colour's configured range

@@ -82,7 +82,9 @@ struct RoiPoints {
   /// silhouette was not found in it.
   double silhouette_disparity = std::numeric_limits<double>::quiet_NaN();
   /// Disparities block matching searched at full size: a window around the silhouette's disparity, else around
-  /// the median of a half-size search over the whole workspace, else (too few half-size matches) the workspace;
+  /// the median of a half-size search over the workspace and beyond its far end (workspaceAndBeyond), else (too few
+  /// half-size matches) that band at full size (reprojection keeps what lies in the workspace); 0 when the object
+  /// lies beyond the far end (beyond_far_end);
   /// never more than the box's right edge allows (a pixel at column x is in the right image up to disparity x).
   /// 0 when nothing was matched.
   int searched_disparities = 0;
@@ -90,9 +92,8 @@ struct RoiPoints {
   /// so the whole workspace was searched (searched_disparities counts that search).
   bool window_missed = false;
   /// Without a silhouette, the half-size search (which also looks beyond the workspace's far end,
-  /// StereoMatchConfig::max_depth_m, to twice its depth) matched the object beyond it: the object lies farther, or
-  /// the two views show no parallax there (one camera's image given for both, nearly). Nothing is matched at full
-  /// size and no point is kept.
+  /// StereoMatchConfig::max_depth_m, to about twice its depth) matched most of the object's pixels, agreeing, clearly
+  /// beyond it: the object lies farther. Nothing is matched at full size and no point is kept.
   bool beyond_far_end = false;
   /// Wall time [ms] of the steps: silhouette disparity, the half-size search and rectifying the band (grey and
   /// mask), block matching, reprojecting the mask's pixels (with the colour check).
@@ -168,7 +169,8 @@ class RoiStereoMatcher {
   /// Around a finite disparity (the silhouette's, or the half-size search's) by the expected relief of an
   /// object of rectified box `box`; else the whole workspace.
   DisparityWindow disparityWindow(double silhouette_disparity, const cv::Rect& box) const;
-  /// The whole workspace and beyond its far end, from half that end's disparity (kBeyondFarEndReach).
+  /// The workspace and beyond its far end, from half that end's disparity (kBeyondFarEndReach), as far as block
+  /// matching's budget (kMaxSgbmDisparities) leaves room after the workspace.
   DisparityWindow workspaceAndBeyond() const;
   /// The band around `box` (plus the margin) that `window` needs, clipped to the image's top, bottom and right.
   MatchBand matchBand(const DisparityWindow& window, const cv::Rect& box) const;
