@@ -10,6 +10,7 @@
 #include <sensor_msgs/Image.h>
 #include <underwater_stereo/GroundTruth.h>
 
+#include <algorithm>
 #include <mutex>
 #include <set>
 
@@ -23,7 +24,7 @@ namespace {
 struct Recorder {
   std::mutex mutex;
   int pairs = 0;
-  int left_images = 0;
+  std::vector<ros::Time> left_stamps;  ///< of every left image received
   std::set<ros::Time> pair_stamps;
   std::vector<underwater_stereo::GroundTruthConstPtr> truths;
   ImageConstPtr left, right;
@@ -38,6 +39,14 @@ struct Recorder {
     right = r;
     left_info = li;
     right_info = ri;
+  }
+
+  /// Left images stamped no later than the last pair (call with mutex held): a later one may still wait for its
+  /// right image or camera_infos when the test stops listening (on a loaded machine, several).
+  int leftImagesUpToTheLastPair() const {
+    if (pair_stamps.empty()) return 0;
+    const ros::Time last = *pair_stamps.rbegin();
+    return static_cast<int>(std::count_if(left_stamps.begin(), left_stamps.end(), [&](const ros::Time& t) { return t <= last; }));
   }
 
   /// Ground-truth messages whose stamp is one of a received pair's (call with mutex held).
@@ -65,9 +74,9 @@ TEST(StereoCameraSim, PublishesSynchronisedCalibratedPairsWithGroundTruth) {
       sync(left_sub, left_info_sub, right_sub, right_info_sub, 20);
   sync.registerCallback(boost::bind(&Recorder::onPair, &rec, boost::placeholders::_1, boost::placeholders::_2,
                                         boost::placeholders::_3, boost::placeholders::_4));
-  ros::Subscriber count_left = nh.subscribe<sensor_msgs::Image>("left/image_raw", 20, [&](const ImageConstPtr&) {
+  ros::Subscriber count_left = nh.subscribe<sensor_msgs::Image>("left/image_raw", 20, [&](const ImageConstPtr& m) {
     std::lock_guard<std::mutex> lock(rec.mutex);
-    ++rec.left_images;
+    rec.left_stamps.push_back(m->header.stamp);
   });
   ros::Subscriber truth = nh.subscribe<underwater_stereo::GroundTruth>(
       "ground_truth", 20, [&](const underwater_stereo::GroundTruthConstPtr& m) {
@@ -95,9 +104,10 @@ TEST(StereoCameraSim, PublishesSynchronisedCalibratedPairsWithGroundTruth) {
   left_info_sub.unsubscribe();
   right_info_sub.unsubscribe();
   ASSERT_GE(rec.pairs, 10) << "exactly-synchronised pairs received";
-  // Every left image found its right image and both camera_infos with the identical stamp
-  // (the first one or two may have been published before all four subscriptions connected).
-  EXPECT_GE(rec.pairs, rec.left_images - 2);
+  // Every left image up to the last pair found its right image and both camera_infos with the identical stamp
+  // (the first one or two may have been published before all four subscriptions connected; later ones may still be
+  // on their way: in CI on a loaded machine, 11 left images against 10 pairs failed the plain count).
+  EXPECT_GE(rec.pairs, rec.leftImagesUpToTheLastPair() - 2);
 
   EXPECT_EQ(rec.left->encoding, "bayer_rggb8");
   EXPECT_EQ(rec.right->encoding, "bayer_rggb8");
