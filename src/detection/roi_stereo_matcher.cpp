@@ -18,11 +18,16 @@
 namespace underwater_stereo {
 namespace {
 
+/// Disparity [px] of the workspace's far end (StereoMatchConfig::max_depth_m) for `calibration`: nearer objects have more.
+double farEndDisparity(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
+  return calibration.focalPx() * calibration.baselineM() / workspace.max_depth_m;
+}
+
 /// Disparities [px] of the workspace's far and near ends for `calibration` (one that validates, with a valid
 /// `workspace`: focal length x baseline finite and positive).
 std::pair<int, int> disparitiesOf(const StereoCalibration& calibration, const StereoMatchConfig& workspace) {
   const double fb = calibration.focalPx() * calibration.baselineM();
-  const int far = static_cast<int>(std::floor(fb / workspace.max_depth_m));
+  const int far = static_cast<int>(std::floor(farEndDisparity(calibration, workspace)));
   // A long baseline or lens spreads the workspace over more disparities than block matching searches: its near
   // end is then left out (nearestMatchedDepthM), not the calibration refused.
   return {far, std::min(static_cast<int>(std::ceil(fb / workspace.min_depth_m)), far + kMaxSgbmDisparities - 1)};
@@ -470,7 +475,7 @@ RoiPoints RoiStereoMatcher::match(const RawFrame& left, const RawFrame& right, c
   if (!std::isfinite(out.silhouette_disparity)) {
     const double coarse = coarseDisparity(left_band, right_band, mask_band, band);
     // Farther than the workspace (or no parallax there): nothing in it to match.
-    if (coarse < calibration_.focalPx() * calibration_.baselineM() / config_.max_depth_m) {
+    if (coarse < farEndDisparity(calibration_, config_)) {
       out.beyond_far_end = true;
       out.rectify_ms += lap.lapMs();
       return out;
@@ -533,14 +538,14 @@ double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat
   if (static_cast<int>(found.size()) < kMinCoarseMatches) return std::numeric_limits<double>::quiet_NaN();
   std::nth_element(found.begin(), found.begin() + found.size() / 2, found.end());
   const double median = found[found.size() / 2];
-  const double fb = calibration_.focalPx() * calibration_.baselineM();
+  const double far_end = farEndDisparity(calibration_, config_);
   // Beyond the far end only clearly (its median is good to a half-size pixel), inside the search (not piled up at
   // its ends, where a plain object's matches go) and where most of the object's pixels match and agree on it (a plain
   // object's few matches scatter, and their median with them); beyond the near end it is no object's. Neither is
   // trusted otherwise.
-  if (median < fb / config_.max_depth_m) {
+  if (median < far_end) {
     // A half-size pixel (2 px) clear of the far end and of the search's ends.
-    if (median > fb / config_.max_depth_m - 2 || median < band.min_disparity + 2 ||
+    if (median > far_end - 2 || median < band.min_disparity + 2 ||
         median > band.min_disparity + band.num_disparities - 2) {
       return std::numeric_limits<double>::quiet_NaN();
     }
@@ -549,7 +554,7 @@ double RoiStereoMatcher::coarseDisparity(const cv::Mat& left_band, const cv::Mat
     });
     return near_median > kMinFarEndAgreement * cv::countNonZero(m) ? median : std::numeric_limits<double>::quiet_NaN();
   }
-  return median <= fb / nearestDepthM() ? median : std::numeric_limits<double>::quiet_NaN();
+  return inWorkspace(median) ? median : std::numeric_limits<double>::quiet_NaN();
 }
 
 void RoiStereoMatcher::checkMatchInputs(const RawFrame& left, const RawFrame& right, const cv::Rect& roi,
@@ -684,7 +689,7 @@ void RoiStereoMatcher::reproject(const RawFrame& left, const RawFrame& right, co
 
 bool RoiStereoMatcher::inWorkspace(double disparity) const {
   const double fb = calibration_.focalPx() * calibration_.baselineM();
-  return disparity >= fb / config_.max_depth_m && disparity <= fb / nearestDepthM();
+  return disparity >= farEndDisparity(calibration_, config_) && disparity <= fb / nearestDepthM();
 }
 
 StereoOrder RoiStereoMatcher::stereoOrder(const RawFrame& left, const RawFrame& right, const cv::Rect& roi) const {
